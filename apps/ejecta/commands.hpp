@@ -1,0 +1,14 @@
+#pragma once
+#include <CLI/CLI.hpp>
+
+namespace ejecta::cli {
+
+// Each sub-command registers its options and returns the action to run after parsing.
+// Actions return the process exit code; they throw InputError for bad input.
+using Action = std::function<int()>;
+Action addSoilCommand(CLI::App& app);
+
+// Parses a number given on the command line; `percent_ok` accepts "7%" as 0.07.
+double parseNumber(const std::string& field, const std::string& text, bool percent_ok = false);
+
+}  // namespace ejecta::cli

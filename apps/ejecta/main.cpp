@@ -1,0 +1,38 @@
+// ejecta: buried-charge loading of vehicle underbodies. One program, several sub-commands.
+#include <iostream>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "commands.hpp"
+#include "core/error.hpp"
+#include "ejecta/build_info.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"ejecta: predicts how a buried charge in sand loads a vehicle underbody. SI units throughout."};
+  app.set_version_flag("--version", std::string("ejecta ") + ejecta::build_info::version);
+  app.require_subcommand(1);
+  std::vector<ejecta::cli::Action> actions{ejecta::cli::addSoilCommand(app)};
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::Success& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "ejecta: error: " << e.what() << " (see ejecta --help)\n";
+    return 2;
+  }
+  try {
+    for (auto& action : actions)
+      if (int rc = action(); rc >= 0) return rc;
+    return 2;
+  } catch (const ejecta::InputError& e) {
+    std::cerr << "ejecta: error: " << e.what() << '\n';
+    return 2;
+  } catch (const ejecta::RunError& e) {
+    std::cerr << "ejecta: run stopped: " << e.what() << '\n';
+    return 3;
+  } catch (const std::exception& e) {
+    std::cerr << "ejecta: failed: " << e.what() << '\n';
+    return 1;
+  }
+}

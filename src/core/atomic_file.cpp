@@ -1,0 +1,76 @@
+#include "core/atomic_file.hpp"
+
+#include <atomic>
+#include <fstream>
+#include <stdexcept>
+#include <system_error>
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+namespace ejecta::io {
+
+std::filesystem::path temporarySibling(const std::filesystem::path& path) {
+  static std::atomic<unsigned> counter{0};
+  auto name = fmt::format(".{}.tmp-{}-{}", path.filename().string(), ::getpid(), counter++);
+  return path.parent_path() / name;
+}
+
+namespace {
+void writeTo(const std::filesystem::path& tmp, const std::function<void(std::ostream&)>& writer) {
+  std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+  if (!out) throw std::runtime_error(fmt::format("cannot write {}", tmp.string()));
+  writer(out);
+  out.flush();
+  if (!out) throw std::runtime_error(fmt::format("write failed for {}", tmp.string()));
+}
+}  // namespace
+
+void writeFileAtomically(const std::filesystem::path& path,
+                         const std::function<void(std::ostream&)>& writer) {
+  auto tmp = temporarySibling(path);
+  try {
+    writeTo(tmp, writer);
+    std::filesystem::rename(tmp, path);
+  } catch (...) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    throw;
+  }
+}
+
+void writeFileAtomically(const std::filesystem::path& path, const std::string& content) {
+  writeFileAtomically(path, [&](std::ostream& os) { os << content; });
+}
+
+OutputTransaction::~OutputTransaction() {
+  if (!committed_) discard();
+}
+
+void OutputTransaction::discard() {
+  for (auto& [tmp, final_path] : staged_) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+  }
+  staged_.clear();
+}
+
+std::filesystem::path OutputTransaction::reserve(const std::filesystem::path& final_path) {
+  auto tmp = temporarySibling(final_path);
+  staged_.emplace_back(tmp, final_path);
+  return tmp;
+}
+
+std::filesystem::path OutputTransaction::stage(const std::filesystem::path& final_path,
+                                               const std::function<void(std::ostream&)>& writer) {
+  auto tmp = reserve(final_path);
+  writeTo(tmp, writer);
+  return tmp;
+}
+
+void OutputTransaction::commit() {
+  for (auto& [tmp, final_path] : staged_) std::filesystem::rename(tmp, final_path);
+  committed_ = true;
+}
+
+}  // namespace ejecta::io

@@ -1,0 +1,25 @@
+#pragma once
+#include <stdexcept>
+#include <string>
+
+namespace ejecta {
+
+// Bad user input: names the offending field and, where it has one, its valid range.
+// Front ends turn it into a one-line message and exit code 2.
+class InputError : public std::runtime_error {
+ public:
+  InputError(std::string field, const std::string& message)
+      : std::runtime_error(field + ": " + message), field_(std::move(field)) {}
+  const std::string& field() const { return field_; }
+
+ private:
+  std::string field_;
+};
+
+// A run that cannot go on (NaN, negative density, collapsing time step). Front ends exit 3.
+class RunError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace ejecta

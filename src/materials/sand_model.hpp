@@ -1,0 +1,179 @@
+#pragma once
+// The two-input sand model (shared/design/method.md section 2): dry density and gravimetric
+// moisture give the whole constitutive description through three springs in series (air-void
+// skeleton, quartz, water), the dry Sjobo sand as baseline, and a saturation-dependent
+// strength plateau. SI units throughout: Pa, kg/m3, m/s.
+#include <string>
+#include <vector>
+
+#include "core/interp.hpp"
+#include "materials/constituents.hpp"
+
+namespace ejecta::materials {
+
+// How the yield-strength plateau falls with saturation (the published values are not
+// available to us). EffectiveStress, our default: grains carry shear only through the
+// intergranular (effective) stress; under fast, undrained loading that stress stops rising once
+// the pore air is squeezed out, because the pore water then takes every further increment. So
+// the plateau is the friction strength at the skeleton pressure that closes the air voids:
+//   Y_plateau = scale * (dY/dp) * p_skeleton(void closure = air voids / porosity),
+// which is the dry lockup strength at S = 0 and falls to `residual` at S = 1.
+struct PlateauParams {
+  enum class Law { EffectiveStress, Fixed };
+  Law law = Law::EffectiveStress;
+  double scale = 1.0;      // - multiplier on the effective-stress plateau
+  double residual = 0.0;   // Pa, floor (the undrained strength of saturated sand)
+  double fixed = 0.0;      // Pa, the plateau when law == Fixed
+};
+
+struct SandInputs {
+  double dry_density = 1280.0;   // kg/m3
+  double moisture = 0.07;        // - gravimetric: mass of water / mass of dry solids
+  QuartzParams quartz{};
+  WaterEosSet water = waterAwg();
+  double friction_slope = kSjoboFrictionSlope;   // - dY/dp of the initial (friction) branch
+  double tension_cutoff = kSjoboTensionCutoff;   // Pa (negative)
+  double poisson = kSjoboPoisson;                // - for the LS-DYNA card
+  PlateauParams plateau{};
+
+  // Users often know the wet (gross) density: rho_d = rho_wet / (1 + w).
+  static SandInputs fromWetDensity(double wet_density, double moisture);
+};
+
+struct SandState {
+  double dry_density;      // kg/m3
+  double moisture;         // -
+  double wet_density;      // kg/m3, rho_d (1 + w)
+  double porosity;         // - n = 1 - rho_d / rho_g
+  double water_fraction;   // - theta = w rho_d / rho_w
+  double saturation;       // - S = theta / n
+  double air_voids;        // - n - theta
+};
+
+struct SandKeyNumbers {
+  double initial_bulk_modulus;        // Pa, loading tangent at zero strain
+  double initial_unloading_modulus;   // Pa
+  double initial_shear_modulus;       // Pa
+  double lockup_pressure;             // Pa, where the air voids close
+  double lockup_strain;               // - natural strain -ln(V/V0) at lockup
+  double lockup_density;              // kg/m3
+  double yield_plateau;               // Pa
+  double friction_knee_pressure;      // Pa, where the friction branch meets the plateau
+  double loading_wave_speed;          // m/s, sqrt(K_load / rho)
+  double elastic_wave_speed;          // m/s, sqrt((K_unload + 4 G / 3) / rho)
+  double wood_bulk_modulus;           // Pa, 1/K = (1-n)/K_q + n/K_w (reference for S = 1)
+};
+
+struct CurvePoint {
+  double pressure;          // Pa
+  double strain;            // - engineering volumetric strain 1 - V/V0
+  double natural_strain;    // - -ln(V/V0)
+  double density;           // kg/m3
+  double loading_modulus;   // Pa, -V dp/dV along the loading curve
+  double unloading_modulus; // Pa
+  double shear_modulus;     // Pa
+};
+
+// The air-void skeleton spring, derived once from the dry Sjobo curve by removing the quartz
+// compliance: closure fraction e in [0, 1] vs pressure, and its elastic unloading compliance.
+class VoidSpring {
+ public:
+  explicit VoidSpring(const QuartzParams& quartz);
+  double closure(double p) const;                 // - fraction of the voids closed
+  double compliance(double p) const;              // d closure / dp on loading
+  double unloadingCompliance(double p) const;     // d closure / dp on unloading, <= compliance
+  double pressureAtClosure(double e) const;
+  double lockupPressure() const { return p_lock_; }
+  double referencePorosity() const { return n_ref_; }
+  bool extrapolatedBeyondTable(double p) const { return p > p_table_end_; }
+
+ private:
+  MonotoneCubic curve_;
+  std::vector<double> unload_e_, unload_c_;   // knots of the unloading compliance vs closure
+  double n_ref_, p_lock_, p_table_end_;
+};
+
+class SandModel {
+ public:
+  explicit SandModel(const SandInputs& in);   // validates; throws InputError naming the field
+
+  const SandInputs& inputs() const { return in_; }
+  const SandState& state() const { return state_; }
+  const VoidSpring& voidSpring() const { return void_; }
+
+  double strain(double p) const;               // engineering volumetric strain on loading
+  double naturalStrain(double p) const;        // -ln(V/V0) on loading
+  double pressureAtNaturalStrain(double x) const;
+  double loadingModulus(double p) const;       // true tangent -V dp/dV
+  double unloadingModulus(double p) const;     // true elastic modulus after loading to p
+  double shearModulus(double p) const;         // after loading to p
+  double yieldStrength(double p) const;        // bilinear: friction branch, then plateau
+  double yieldPlateau() const { return plateau_; }
+  double maxPressure() const { return p_max_; }   // top of the tabulated range
+  SandKeyNumbers keyNumbers() const;
+  std::vector<CurvePoint> sampleLoading(int n) const;   // geometric in pressure up to maxPressure
+  CurvePoint pointAt(double p) const;
+
+ private:
+  double waterStrain(double p) const;
+  double compliance(double p, bool unloading) const;
+
+  SandInputs in_;
+  SandState state_;
+  VoidSpring void_;
+  double water_eta_top_;
+  double plateau_;
+  double skeleton_ref_compliance_;
+  double p_max_ = 50e9;   // Pa: covers sand driven to quartz density beside a detonating charge
+};
+
+// The hydrocode's point evaluator: pressure and bulk modulus from the current natural strain
+// x = ln(rho/rho0) and the largest one reached, x_max (loading on the curve, elastic
+// unloading and reloading below it, tension cutoff). Precomputed on a uniform strain grid:
+// O(1), no allocation, no search per call.
+class SandPointEos {
+ public:
+  struct Result {
+    double pressure;       // Pa
+    double bulk_modulus;   // Pa, tangent on the branch in use (for the sound speed)
+  };
+
+  explicit SandPointEos(const SandModel& model, int table_size = 4096);
+
+  Result evaluate(double x, double x_max) const noexcept {
+    const bool loading = x >= x_max;
+    const double xl = loading ? x : x_max;
+    double s = xl * inv_dx_;
+    s = s < 0.0 ? 0.0 : s;
+    int i = static_cast<int>(s);
+    i = i > last_ ? last_ : i;
+    const double t = s - i;   // t > 1 extrapolates the last interval
+    const double p_on_curve = xl < 0.0 ? k_load_[0] * xl : p_[i] + t * (p_[i + 1] - p_[i]);
+    if (loading) {
+      const double k = k_load_[i] + (t > 1.0 ? 1.0 : t) * (k_load_[i + 1] - k_load_[i]);
+      return {p_on_curve > p_cut_ ? p_on_curve : p_cut_, k};
+    }
+    const double k = k_unload_[i] + (t > 1.0 ? 1.0 : t) * (k_unload_[i + 1] - k_unload_[i]);
+    const double p = p_on_curve - k * (x_max - x);
+    return {p > p_cut_ ? p : p_cut_, k};
+  }
+
+  double shearModulus(double x_max) const noexcept {
+    double s = x_max * inv_dx_;
+    s = s < 0.0 ? 0.0 : s;
+    int i = static_cast<int>(s);
+    i = i > last_ ? last_ : i;
+    const double t = s - i;
+    return g_[i] + (t > 1.0 ? 1.0 : t) * (g_[i + 1] - g_[i]);
+  }
+  double referenceDensity() const { return rho0_; }
+  double tensionCutoff() const { return p_cut_; }
+  double tableTop() const { return dx_ * last_ + dx_; }
+
+ private:
+  std::vector<double> p_, k_load_, k_unload_, g_;
+  double dx_, inv_dx_, rho0_, p_cut_;
+  int last_;
+};
+
+}  // namespace ejecta::materials

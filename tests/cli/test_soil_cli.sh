@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# `ejecta soil` as a user runs it: outputs written, bad input refused with a one-line error that
+# names the input, exit code 2, and no file written or left behind.
+set -uo pipefail
+ejecta=$1
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+fail=0
+pass=0
+check() { if eval "$2"; then pass=$((pass + 1)); else echo "FAIL: $1"; fail=$((fail + 1)); fi; }
+
+"$ejecta" soil --dry-density 1280 --moisture 7% --lsdyna x.k --plot x.png --json > j.json
+check "good run exits 0" "[[ $? -eq 0 ]]"
+check "keyword file written" "[[ -s x.k ]] && head -1 x.k | grep -q '^\*KEYWORD' && tail -1 x.k | grep -q '^\*END'"
+check "png written" "[[ \$(head -c 4 x.png | od -An -c | tr -d ' ') == '211PNG' ]]"
+check "json to stdout parses" "python3 -c 'import json,sys; d=json.load(open(\"j.json\")); assert d[\"state\"][\"dry_density_kg_m3\"]==1280' "
+"$ejecta" soil --wet-density 1670 --moisture 0.22 --csv curves --json s.json --units t-mm-s --lsdyna t.k > /dev/null
+check "csv dir written" "[[ -s curves/loading_curve.csv && -s curves/yield_curve.csv && -s curves/summary.csv && -s s.json ]]"
+check "t-mm-s density" "grep -q 'Units: t-mm-s' t.k"
+check "no temporary files left" "[[ -z \$(find . -name '.*tmp*') ]]"
+
+bad() {   # name, expected field, args...
+  local name=$1 field=$2; shift 2
+  rm -rf out; mkdir out
+  local err
+  err=$("$ejecta" soil "$@" --lsdyna out/b.k --plot out/b.png --json out/b.json --csv out/c 2>&1 >/dev/null)
+  local rc=$?
+  check "$name: exit 2 (got $rc)" "[[ $rc -eq 2 ]]"
+  check "$name: one line naming $field ('$err')" "[[ \$(printf '%s\n' \"\$err\" | wc -l) -eq 1 ]] && grep -q -- '$field' <<< \"\$err\""
+  check "$name: nothing written" "[[ -z \$(ls -A out) ]]"
+}
+bad "saturation over 100%" "moisture" --dry-density 1670 --moisture 30%
+bad "density at grain density" "dry-density" --dry-density 2650 --moisture 0
+bad "density above grain density" "dry-density" --dry-density 2800 --moisture 0
+bad "negative density" "dry-density" --dry-density=-5 --moisture 7%
+bad "non-numeric density" "dry-density" --dry-density abc --moisture 7%
+bad "negative moisture" "moisture" --dry-density 1280 --moisture=-3%
+bad "ambiguous moisture" "moisture" --dry-density 1280 --moisture 7
+bad "unknown flag" "--frobnicate" --frobnicate 3
+bad "unknown water set" "water-eos" --water-eos seawater
+bad "unknown units" "units" --units furlongs
+bad "saturation over 100% via --saturation" "saturation" --dry-density 1490 --saturation 120%
+
+# A failing plot (no matplotlib found) must leave none of the other outputs behind.
+rm -rf out; mkdir out
+EJECTA_PYTHON=/bin/false "$ejecta" soil --lsdyna out/b.k --plot out/b.png --json out/b.json --csv out/c >/dev/null 2>&1
+rc=$?
+check "failed plot: non-zero exit" "[[ $rc -ne 0 ]]"
+check "failed plot: nothing left behind" "[[ -z \$(ls -A out) ]]"
+
+"$ejecta" --help > /dev/null
+check "help exits 0" "[[ $? -eq 0 ]]"
+echo "$pass passed, $fail failed"
+[[ $fail -eq 0 ]]
