@@ -1,0 +1,94 @@
+#pragma once
+// Structured meshes for the Eulerian solver: 1D, 2D plane, 2D axisymmetric (r, z) and 3D
+// Cartesian from one dimension-generic description. Each axis is a list of face coordinates (a
+// uniform core with geometric grading outward is one way to make it); cells carry `kGhost` ghost
+// layers on every side so that the same kernels run on a whole domain, an MPI rank's block or a
+// GPU tile. SI units: m.
+#include <array>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace ejecta::mesh {
+
+inline constexpr int kGhost = 3;   // the split Lagrange-remap sweep reads 3 cells past a face
+
+enum class Geometry { Cartesian, Axisymmetric };   // axisymmetric: axis 0 is r, axis 1 is z
+
+// A rigid free-slip wall and a symmetry plane are the same condition in an inviscid Eulerian
+// code: Reflect. (A moving piston is posed in the piston's frame: the material flows in.)
+enum class BoundaryKind {
+  Reflect,    // symmetry plane, axis or rigid wall: mirror state, normal velocity reversed
+  Transmit,   // outflow: zero-gradient extrapolation
+  Periodic,
+};
+
+// Face coordinates of one axis, interior only (n + 1 faces for n cells).
+class Axis {
+ public:
+  Axis() = default;
+  explicit Axis(std::vector<double> faces);   // strictly increasing; throws InputError
+  static Axis uniform(double lo, double hi, int cells);
+  // A uniform core [core_lo, core_hi] of cell size `dx`, grown by `ratio` per cell outward until
+  // the cells reach [lo, hi] (the last cell is stretched or shrunk to land on the end exactly).
+  static Axis graded(double lo, double hi, double core_lo, double core_hi, double dx, double ratio);
+
+  int cells() const { return static_cast<int>(faces_.size()) - 1; }
+  const std::vector<double>& faces() const { return faces_; }
+  double lo() const { return faces_.front(); }
+  double hi() const { return faces_.back(); }
+  double minWidth() const;
+
+ private:
+  std::vector<double> faces_;
+};
+
+struct Index3 {
+  int i = 0, j = 0, k = 0;
+};
+
+// The grid of one block: dims in {1, 2, 3}; unused axes have one cell of unit width.
+class Grid {
+ public:
+  Grid(int dims, Geometry geometry, std::array<Axis, 3> axes);
+
+  int dims() const { return dims_; }
+  Geometry geometry() const { return geometry_; }
+  bool axisymmetric() const { return geometry_ == Geometry::Axisymmetric; }
+  const Axis& axis(int d) const { return axes_[static_cast<std::size_t>(d)]; }
+  int cells(int d) const { return n_[static_cast<std::size_t>(d)]; }
+  int ghost(int d) const { return d < dims_ ? kGhost : 0; }
+  std::size_t interiorCells() const {
+    return static_cast<std::size_t>(n_[0]) * static_cast<std::size_t>(n_[1]) * static_cast<std::size_t>(n_[2]);
+  }
+  std::size_t totalCells() const { return total_; }
+  std::ptrdiff_t stride(int d) const { return stride_[static_cast<std::size_t>(d)]; }
+
+  // Flat index of cell (i, j, k); interior cells run 0..n-1, ghosts reach -kGhost..n+kGhost-1.
+  std::size_t index(int i, int j, int k) const {
+    return static_cast<std::size_t>((i + g_[0]) * stride_[0] + (j + g_[1]) * stride_[1] + (k + g_[2]) * stride_[2]);
+  }
+  Index3 unflatten(std::size_t flat) const;
+  bool isInterior(std::size_t flat) const;
+
+  // Per-axis geometry including ghosts: entry [c + ghost] for cell c, faces [f + ghost].
+  double face(int d, int f) const { return fx_[static_cast<std::size_t>(d)][static_cast<std::size_t>(f + ghost(d))]; }
+  double centre(int d, int c) const { return xc_[static_cast<std::size_t>(d)][static_cast<std::size_t>(c + ghost(d))]; }
+  double width(int d, int c) const { return dx_[static_cast<std::size_t>(d)][static_cast<std::size_t>(c + ghost(d))]; }
+
+  double cellVolume(int i, int j, int k) const;   // m3 (axisymmetric: per radian)
+  // Face-normal area of the face on the low side of cell (i,j,k) normal to axis d (per radian).
+  double faceArea(int d, int i, int j, int k) const;
+  double minWidth() const;
+
+ private:
+  int dims_;
+  Geometry geometry_;
+  std::array<Axis, 3> axes_;
+  std::array<int, 3> n_{1, 1, 1}, g_{0, 0, 0};
+  std::array<std::ptrdiff_t, 3> stride_{0, 0, 0};
+  std::size_t total_ = 0;
+  std::array<std::vector<double>, 3> fx_, xc_, dx_;
+};
+
+}  // namespace ejecta::mesh

@@ -1,0 +1,47 @@
+#pragma once
+// The verification suite behind `ejecta verify`: the solver against exact solutions, each at
+// several resolutions so that the observed order of convergence shows, plus published
+// references where no exact solution exists (free-air blast). Kernels only: no files here.
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace ejecta::verify {
+
+struct Row {
+  std::string problem;      // e.g. "sod-x"
+  std::string geometry;     // e.g. "2D plane", "2D axisymmetric", "3D"
+  std::string metric;       // what `error` measures
+  int resolution = 0;       // cells along the problem's length scale
+  std::size_t cells = 0;    // cells in the mesh
+  double error = 0.0;
+  double order = 0.0;       // observed order against the previous (coarser) row; NaN for the first
+  double conservation = 0.0;// largest relative drift of material mass (and total energy where closed)
+  double wall_seconds = 0.0;
+  std::string check;        // the acceptance criterion, in words ("" where the row is informative only)
+  bool passed = true;
+};
+
+struct Profile {
+  std::string problem;
+  int resolution = 0;
+  std::string x_label, y_label;
+  std::vector<double> x, numeric, exact;
+};
+
+struct Report {
+  std::vector<Row> rows;
+  std::vector<Profile> profiles;
+  bool allPassed() const;
+};
+
+struct Options {
+  bool quick = true;
+  std::vector<std::string> only;                       // problem groups to run (empty: all)
+  std::function<void(const std::string&)> log;         // progress messages
+};
+
+std::vector<std::string> problemGroups();
+Report runVerification(const Options& opt);
+
+}  // namespace ejecta::verify
