@@ -34,22 +34,22 @@ struct VerifyOptions {
 nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
 std::string tableText(const verify::Report& rep) {
-  std::string s = fmt::format("{:<24} {:<16} {:>6} {:>9} {:>11} {:>7} {:>10} {:>8}  {}\n", "problem", "geometry", "res", "cells", "error", "order",
-                              "conserv.", "wall s", "check");
+  std::string s = fmt::format("{:<24} {:<16} {:>6} {:>9} {:>7} {:>11} {:>7} {:>10} {:>8}  {}\n", "problem", "geometry", "res", "cells", "steps", "error",
+                              "order", "conserv.", "wall s", "check");
   for (const auto& r : rep.rows) {
     const std::string order = std::isfinite(r.order) ? fmt::format("{:.2f}", r.order) : "-";
     const std::string cons = std::isfinite(r.conservation) ? fmt::format("{:.1e}", r.conservation) : "-";
     const std::string check = r.check.empty() ? "" : fmt::format("{} [{}]", r.check, r.passed ? "pass" : "FAIL");
-    s += fmt::format("{:<24} {:<16} {:>6} {:>9} {:>11.3e} {:>7} {:>10} {:>8.2f}  {}\n", r.problem, r.geometry, r.resolution, r.cells, r.error, order,
-                     cons, r.wall_seconds, check);
+    s += fmt::format("{:<24} {:<16} {:>6} {:>9} {:>7} {:>11.3e} {:>7} {:>10} {:>8.2f}  {}\n", r.problem, r.geometry, r.resolution, r.cells,
+                     r.steps > 0 ? std::to_string(r.steps) : "-", r.error, order, cons, r.wall_seconds, check);
   }
   return s;
 }
 
 void writeCsv(std::ostream& os, const verify::Report& rep) {
-  os << "problem,geometry,metric,resolution,cells,error,observed_order,conservation_drift,wall_seconds,check,passed\n";
+  os << "problem,geometry,metric,resolution,cells,steps,error,observed_order,conservation_drift,wall_seconds,check,passed\n";
   for (const auto& r : rep.rows)
-    os << fmt::format("{},{},\"{}\",{},{},{:.6e},{},{},{:.3f},\"{}\",{}\n", r.problem, r.geometry, r.metric, r.resolution, r.cells, r.error,
+    os << fmt::format("{},{},\"{}\",{},{},{},{:.6e},{},{},{:.3f},\"{}\",{}\n", r.problem, r.geometry, r.metric, r.resolution, r.cells, r.steps, r.error,
                       std::isfinite(r.order) ? fmt::format("{:.4f}", r.order) : "", std::isfinite(r.conservation) ? fmt::format("{:.3e}", r.conservation) : "",
                       r.wall_seconds, r.check, r.check.empty() ? "" : (r.passed ? "true" : "false"));
 }
@@ -60,7 +60,7 @@ nlohmann::json reportJson(const verify::Report& rep, bool quick) {
   j["level"] = quick ? "quick" : "full";
   j["all_passed"] = rep.allPassed();
   for (const auto& r : rep.rows)
-    j["rows"].push_back({{"problem", r.problem}, {"geometry", r.geometry}, {"metric", r.metric}, {"resolution", r.resolution}, {"cells", r.cells},
+    j["rows"].push_back({{"problem", r.problem}, {"geometry", r.geometry}, {"metric", r.metric}, {"resolution", r.resolution}, {"cells", r.cells}, {"steps", r.steps},
                          {"error", number(r.error)}, {"observed_order", number(r.order)}, {"conservation_drift", number(r.conservation)},
                          {"wall_seconds", r.wall_seconds}, {"check", r.check}, {"passed", r.passed}});
   return j;

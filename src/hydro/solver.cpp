@@ -625,6 +625,32 @@ void Solver::sweep(int d, double dt) {
                 work += wk;
               }
             }
+            // Pressure relaxation: materials at unequal pressures exchange volume towards the
+            // common pressure p_eq of the linearised mixture (at most half a material's volume per
+            // step). The exchange does work at p_eq, so it conserves energy and is dissipative.
+            double sw = 0.0, swp = 0.0;
+            for (int k = 0; k < M; ++k) {
+              const std::size_t ki = static_cast<std::size_t>(k * N + i);
+              if (P.a[ki] <= kAlphaMin) continue;
+              const double wk = P.a[ki] / std::max(P.kk[ki], 1.0);
+              sw += wk;
+              swp += wk * P.pk[ki];
+            }
+            const double p_eq = swp / sw;
+            double theta = 1.0;
+            for (int k = 0; k < M; ++k) {
+              const std::size_t ki = static_cast<std::size_t>(k * N + i);
+              if (P.a[ki] <= kAlphaMin) continue;
+              const double dk = P.a[ki] * Vl * (P.pk[ki] - p_eq) / std::max(P.kk[ki], 1.0);
+              if (dk < 0.0) theta = std::min(theta, 0.5 * P.vk[ki] / -dk);
+            }
+            for (int k = 0; k < M; ++k) {
+              const std::size_t ki = static_cast<std::size_t>(k * N + i);
+              if (P.a[ki] <= kAlphaMin) continue;
+              const double dk = theta * P.a[ki] * Vl * (P.pk[ki] - p_eq) / std::max(P.kk[ki], 1.0);
+              P.vk[ki] += dk;
+              P.iek[ki] -= p_eq * dk;
+            }
             // keep the material volumes summing to the cell's
             double vs = 0.0;
             for (int k = 0; k < M; ++k) vs += P.vk[static_cast<std::size_t>(k * N + i)];

@@ -20,6 +20,7 @@ struct Row {
   double wall_seconds = 0.0;
   std::string check;        // the acceptance criterion, in words ("" where the row is informative only)
   bool passed = true;
+  long long steps = 0;      // time steps taken
 };
 
 struct Profile {
