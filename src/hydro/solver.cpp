@@ -57,7 +57,7 @@ struct Solver::Pencil {
   int n = 0, N = 0, M = 0;
   bool radial = false;       // axisymmetric r-sweep: swept volumes are annuli
   double ring_width = 0.0;   // axisymmetric r-sweep: the cell's z width
-  std::vector<double> vol, area, xc, w, rf;
+  std::vector<double> vol, area;
   std::array<std::vector<double>, 3> u;   // velocity components (global axes)
   std::vector<double> rho, P, K, Z, hoop;
   std::array<std::vector<double>, 2> shear;   // mixture s_{d,t} for the two transverse axes
@@ -82,8 +82,8 @@ struct Solver::Pencil {
     M = materials;
     const auto sN = static_cast<std::size_t>(N), sF = sN + 1, sMN = sN * static_cast<std::size_t>(M),
                sMF = sF * static_cast<std::size_t>(M);
-    for (auto* v : {&vol, &xc, &w, &rho, &P, &K, &Z, &hoop, &vlag, &mass, &ke, &su, &sp}) v->assign(sN, 0.0);
-    for (auto* v : {&area, &rf, &ustar, &pstar, &dvol, &fke}) v->assign(sF, 0.0);
+    for (auto* v : {&vol, &rho, &P, &K, &Z, &hoop, &vlag, &mass, &ke, &su, &sp}) v->assign(sN, 0.0);
+    for (auto* v : {&area, &ustar, &pstar, &dvol, &fke}) v->assign(sF, 0.0);
     for (auto& v : u) v.assign(sN, 0.0);
     for (auto& v : mom) v.assign(sN, 0.0);
     for (auto& v : shear) v.assign(sN, 0.0);
@@ -233,7 +233,11 @@ double Solver::stableTimeStep() const {
     for (int j = 0; j < n1; ++j)
       for (int k = 0; k < n2; ++k) {
         const std::size_t c = grid_.index(i, j, k);
-        double c2 = 0.0;
+        // The signal speed: the mixture's (volume-averaged stiffness over mixture density), and
+        // each material's own where it holds at least 1% of the cell. A sliver's own sound speed
+        // (a hot, rarefied film of air in the products) does not govern stability: its volume
+        // follows the cell's.
+        double c2 = 0.0, kv = 0.0, rho_mix = 0.0;
         for (std::size_t q = 0; q < fields_.size(); ++q) {
           const auto& f = fields_[q];
           if (f.alpha[c] <= kAlphaMin) continue;
@@ -244,8 +248,11 @@ double Solver::stableTimeStep() const {
                                                                              : mats_[q].sand->shearModulus(f.h0[c]);
             kk += 4.0 / 3.0 * g;
           }
-          c2 = std::max(c2, kk / f.rho[c]);
+          kv += f.alpha[c] * kk;
+          rho_mix += f.alpha[c] * f.rho[c];
+          if (f.alpha[c] >= 0.01) c2 = std::max(c2, kk / f.rho[c]);
         }
+        c2 = std::max(c2, kv / rho_mix);
         const double cs = std::sqrt(c2);
         const int idx[3] = {i, j, k};
         for (int d = 0; d < dims; ++d)
@@ -451,6 +458,18 @@ void Solver::sweep(int d, double dt) {
   const std::ptrdiff_t stride = grid_.stride(d);
   const int s_dt1 = stressIndex(d, t1), s_dt2 = stressIndex(d, t2);
   std::size_t bad_cell = std::numeric_limits<std::size_t>::max();
+  // Geometry along the sweep axis is the same for every pencil: centres, widths, faces, and the
+  // inverse centre spacings the slopes use.
+  const int Nl = n + 2 * g;
+  std::vector<double> line_xc(static_cast<std::size_t>(Nl)), line_w(static_cast<std::size_t>(Nl)), line_rf(static_cast<std::size_t>(Nl) + 1),
+      line_inv(static_cast<std::size_t>(Nl), 0.0);
+  for (int i = 0; i <= Nl; ++i) {
+    line_rf[static_cast<std::size_t>(i)] = grid_.face(d, i - g);
+    if (i == Nl) break;
+    line_xc[static_cast<std::size_t>(i)] = grid_.centre(d, i - g);
+    line_w[static_cast<std::size_t>(i)] = grid_.width(d, i - g);
+    if (i > 0) line_inv[static_cast<std::size_t>(i)] = 1.0 / (line_xc[static_cast<std::size_t>(i)] - line_xc[static_cast<std::size_t>(i - 1)]);
+  }
 
 #pragma omp parallel
   {
@@ -467,19 +486,31 @@ void Solver::sweep(int d, double dt) {
         idx[t2] = b;
         const std::size_t base = grid_.index(idx[0], idx[1], idx[2]);
         auto cell = [&](int i) { return static_cast<std::size_t>(static_cast<std::ptrdiff_t>(base) + i * stride); };
-        // ---- gather: geometry
-        for (int i = 0; i < N; ++i) {
-          idx[d] = i - g;
-          P.vol[static_cast<std::size_t>(i)] = grid_.cellVolume(idx[0], idx[1], idx[2]);
-          P.area[static_cast<std::size_t>(i)] = grid_.faceArea(d, idx[0], idx[1], idx[2]);
-          P.xc[static_cast<std::size_t>(i)] = grid_.centre(d, i - g);
-          P.w[static_cast<std::size_t>(i)] = grid_.width(d, i - g);
-          P.rf[static_cast<std::size_t>(i)] = grid_.face(d, i - g);
+        // ---- gather: geometry (areas and volumes from the transverse measure of the pencil)
+        double trans = grid_.width(t1, a) * grid_.width(t2, b);
+        if (grid_.axisymmetric()) {
+          if (d == 0) {
+            trans = grid_.width(1, a);
+          } else {
+            const double rl = grid_.face(0, b), rr = grid_.face(0, b + 1);   // d == 1: t2 == 0
+            trans = 0.5 * (rr * rr - rl * rl);
+          }
         }
-        idx[d] = N - g;
-        P.area[static_cast<std::size_t>(N)] = grid_.faceArea(d, idx[0], idx[1], idx[2]);
-        P.rf[static_cast<std::size_t>(N)] = grid_.face(d, N - g);
-        P.ring_width = radial ? grid_.width(1, a) : 0.0;   // t1 == 1 for d == 0
+        for (int i = 0; i <= N; ++i) {
+          const std::size_t si = static_cast<std::size_t>(i);
+          if (radial) {
+            const double rl = line_rf[si];
+            P.area[si] = std::abs(rl) * trans;
+            if (i < N) {
+              const double rr = line_rf[si + 1];
+              P.vol[si] = 0.5 * std::abs(rr * std::abs(rr) - rl * std::abs(rl)) * trans;
+            }
+          } else {
+            P.area[si] = trans;
+            if (i < N) P.vol[si] = trans * line_w[si];
+          }
+        }
+        P.ring_width = radial ? trans : 0.0;
         P.radial = radial;
         // ---- gather: state and EOS
         for (int i = 0; i < N; ++i) {
@@ -533,14 +564,14 @@ void Solver::sweep(int d, double dt) {
             P.su[si] = P.sp[si] = 0.0;
             continue;
           }
-          const double dl = P.xc[si] - P.xc[si - 1], dr = P.xc[si + 1] - P.xc[si];
-          P.su[si] = vanLeer((un[si] - un[si - 1]) / dl, (un[si + 1] - un[si]) / dr);
-          P.sp[si] = vanLeer((P.P[si] - P.P[si - 1]) / dl, (P.P[si + 1] - P.P[si]) / dr);
+          const double il = line_inv[si], ir = line_inv[si + 1];
+          P.su[si] = vanLeer((un[si] - un[si - 1]) * il, (un[si + 1] - un[si]) * ir);
+          P.sp[si] = vanLeer((P.P[si] - P.P[si - 1]) * il, (P.P[si + 1] - P.P[si]) * ir);
         }
         // ---- acoustic Riemann problem at faces g-1 .. g+n+1 with MUSCL-Hancock states
         for (int f = g - 1; f <= g + n + 1; ++f) {
           const std::size_t L = static_cast<std::size_t>(f - 1), R = static_cast<std::size_t>(f);
-          const double hl = 0.5 * P.w[L], hr = 0.5 * P.w[R];
+          const double hl = 0.5 * line_w[L], hr = 0.5 * line_w[R];
           const double uL = un[L] + hl * P.su[L] - 0.5 * dt * P.sp[L] / P.rho[L];
           const double pL = P.P[L] + hl * P.sp[L] - 0.5 * dt * P.K[L] * P.su[L];
           const double uR = un[R] - hr * P.su[R] - 0.5 * dt * P.sp[R] / P.rho[R];
@@ -549,7 +580,7 @@ void Solver::sweep(int d, double dt) {
           const double us = (zl * uL + zr * uR + pL - pR) / zs;
           P.ustar[static_cast<std::size_t>(f)] = us;
           P.pstar[static_cast<std::size_t>(f)] = (zr * pL + zl * pR + zl * zr * (uL - uR)) / zs;
-          const double disp = us * dt, rf = P.rf[static_cast<std::size_t>(f)];
+          const double disp = us * dt, rf = line_rf[static_cast<std::size_t>(f)];
           P.dvol[static_cast<std::size_t>(f)] =
               radial ? P.ring_width * 0.5 * ((rf + disp) * std::abs(rf + disp) - rf * std::abs(rf)) : P.area[static_cast<std::size_t>(f)] * disp;
         }
@@ -589,7 +620,8 @@ void Solver::sweep(int d, double dt) {
             P.mom[comp][si] = m * ut[si] + dt * (Ar * tr - Al * tl);
             E += dt * (Ar * tr * ur - Al * tl * ul);
           }
-          for (std::size_t q = 0; q < 3; ++q) ke1 += 0.5 * P.mom[q][si] * P.mom[q][si] / m;
+          const double inv_m = 1.0 / m;
+          for (std::size_t q = 0; q < 3; ++q) ke1 += 0.5 * P.mom[q][si] * P.mom[q][si] * inv_m;
           P.ke[si] = ke1;
           const double die = E - ke1 - ie;
           const double dV = Vl - V;
@@ -627,7 +659,9 @@ void Solver::sweep(int d, double dt) {
             }
             // Pressure relaxation: materials at unequal pressures exchange volume towards the
             // common pressure p_eq of the linearised mixture (at most half a material's volume per
-            // step). The exchange does work at p_eq, so it conserves energy and is dissipative.
+            // step). Each material works at its own pressure; the dissipated remainder is shared
+            // as heat by mass, so a rarefied sliver squeezed by products is not heated without
+            // bound and total energy is conserved.
             double sw = 0.0, swp = 0.0;
             for (int k = 0; k < M; ++k) {
               const std::size_t ki = static_cast<std::size_t>(k * N + i);
@@ -644,12 +678,18 @@ void Solver::sweep(int d, double dt) {
               const double dk = P.a[ki] * Vl * (P.pk[ki] - p_eq) / std::max(P.kk[ki], 1.0);
               if (dk < 0.0) theta = std::min(theta, 0.5 * P.vk[ki] / -dk);
             }
+            double relax_heat = 0.0;
             for (int k = 0; k < M; ++k) {
               const std::size_t ki = static_cast<std::size_t>(k * N + i);
               if (P.a[ki] <= kAlphaMin) continue;
               const double dk = theta * P.a[ki] * Vl * (P.pk[ki] - p_eq) / std::max(P.kk[ki], 1.0);
               P.vk[ki] += dk;
-              P.iek[ki] -= p_eq * dk;
+              P.iek[ki] -= P.pk[ki] * dk;   // each material works at its own pressure...
+              relax_heat += P.pk[ki] * dk;  // ...and the irreversible remainder (>= 0) is heat
+            }
+            for (int k = 0; k < M; ++k) {
+              const std::size_t ki = static_cast<std::size_t>(k * N + i);
+              if (P.a[ki] > kAlphaMin) P.iek[ki] += relax_heat * P.mk[ki] / m;
             }
             // keep the material volumes summing to the cell's
             double vs = 0.0;
@@ -684,7 +724,7 @@ void Solver::sweep(int d, double dt) {
           const double sign = out_high ? 1.0 : -1.0;
           const double vD = P.vlag[sD];
           const double bfrac = std::min(std::abs(dvf) / vD, 1.0);
-          const double offset = sign * 0.5 * P.w[sD] * (1.0 - bfrac);
+          const double offset = sign * 0.5 * line_w[sD] * (1.0 - bfrac);
           // material volumes
           double raw_sum = 0.0;
           double raw[8];
@@ -724,9 +764,9 @@ void Solver::sweep(int d, double dt) {
             } else {
               double rho_f = P.mk[kD] / P.vk[kD], e_f = P.iek[kD] / P.mk[kD];
               if (second && P.a[kD - 1] > kPureCell && P.a[kD] > kPureCell && P.a[kD + 1] > kPureCell) {
-                const double dl = P.xc[sD] - P.xc[sD - 1], dr = P.xc[sD + 1] - P.xc[sD];
-                rho_f += offset * vanLeer((P.r[kD] - P.r[kD - 1]) / dl, (P.r[kD + 1] - P.r[kD]) / dr);
-                e_f += offset * vanLeer((P.e[kD] - P.e[kD - 1]) / dl, (P.e[kD + 1] - P.e[kD]) / dr);
+                const double il = line_inv[sD], ir = line_inv[sD + 1];
+                rho_f += offset * vanLeer((P.r[kD] - P.r[kD - 1]) * il, (P.r[kD + 1] - P.r[kD]) * ir);
+                e_f += offset * vanLeer((P.e[kD] - P.e[kD - 1]) * il, (P.e[kD + 1] - P.e[kD]) * ir);
               }
               mflux = std::min(rho_f * dvk[k], P.mk[kD]);
               eflux = mflux * e_f;
@@ -744,8 +784,7 @@ void Solver::sweep(int d, double dt) {
             const auto& uq = P.u[q];
             double uf = P.mom[q][sD] / P.mass[sD];
             if (second) {
-              const double dl = P.xc[sD] - P.xc[sD - 1], dr = P.xc[sD + 1] - P.xc[sD];
-              uf += offset * vanLeer((uq[sD] - uq[sD - 1]) / dl, (uq[sD + 1] - uq[sD]) / dr);
+              uf += offset * vanLeer((uq[sD] - uq[sD - 1]) * line_inv[sD], (uq[sD + 1] - uq[sD]) * line_inv[sD + 1]);
             }
             P.fmom[q][sf] = sign * dm * uf;
             ke += 0.5 * dm * uf * uf;
