@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <istream>
 #include <limits>
+#include <ostream>
 
 #include <fmt/format.h>
 
@@ -75,6 +77,7 @@ struct Solver::Pencil {
   std::array<std::vector<double>, 3> fmom;
   std::vector<double> fke;
   std::vector<double> su, sp;   // limited slopes of normal velocity and normal stress
+  std::vector<unsigned char> solid;
 
   void resize(int cells, int materials) {
     n = cells;
@@ -92,6 +95,7 @@ struct Solver::Pencil {
     for (auto& v : s) v.assign(sMN, 0.0);
     for (auto* v : {&fv, &fm, &fe, &fh}) v->assign(sMF, 0.0);
     for (auto& v : fs) v.assign(sMF, 0.0);
+    solid.assign(sN, 0);
   }
 };
 
@@ -181,6 +185,75 @@ void Solver::setVelocity(std::size_t cell, Vec3 u) {
 
 void Solver::setSpecificEnergy(int mat, std::size_t cell, double e) { fields_[static_cast<std::size_t>(mat)].e[cell] = e; }
 
+void Solver::setBody(const std::function<bool(const Vec3&)>& inside) {
+  body_.assign(grid_.totalCells(), 0);
+  for (std::size_t c = 0; c < body_.size(); ++c) {
+    const auto ix = grid_.unflatten(c);
+    Vec3 x{grid_.centre(0, ix.i), grid_.centre(1, ix.j), grid_.centre(2, ix.k)};
+    if (grid_.axisymmetric()) x[0] = std::abs(x[0]);   // the axis ghosts mirror the body
+    body_[c] = inside(x) ? 1 : 0;
+  }
+  body_impulse_mat_.assign(mats_.size(), Vec3{});
+}
+
+namespace {
+constexpr std::uint64_t kCheckpointMagic = 0x454a45435441434bULL;   // "EJECTACK"
+template <class T>
+void putRaw(std::ostream& os, const T& v) { os.write(reinterpret_cast<const char*>(&v), sizeof(T)); }
+template <class T>
+void getRaw(std::istream& is, T& v) { is.read(reinterpret_cast<char*>(&v), sizeof(T)); }
+void putVec(std::ostream& os, const std::vector<double>& v) {
+  putRaw(os, static_cast<std::uint64_t>(v.size()));
+  os.write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(double)));
+}
+void getVec(std::istream& is, std::vector<double>& v) {
+  std::uint64_t n = 0;
+  getRaw(is, n);
+  if (!is || n != v.size()) throw InputError("restart", "the checkpoint does not match this deck's mesh and materials");
+  is.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(n * sizeof(double)));
+}
+}  // namespace
+
+void Solver::writeCheckpoint(std::ostream& os) const {
+  putRaw(os, kCheckpointMagic);
+  putRaw(os, static_cast<std::uint64_t>(grid_.totalCells()));
+  putRaw(os, static_cast<std::uint64_t>(mats_.size()));
+  putRaw(os, time_);
+  putRaw(os, last_dt_);
+  putRaw(os, step_);
+  putRaw(os, stats_.cell_updates);
+  putRaw(os, body_velocity_);
+  for (const auto& f : fields_) {
+    for (const auto* v : {&f.alpha, &f.rho, &f.e, &f.h0}) putVec(os, *v);
+    if (!f.s[0].empty())
+      for (const auto& c : f.s) putVec(os, c);
+  }
+  for (const auto& c : u_) putVec(os, c);
+}
+
+void Solver::readCheckpoint(std::istream& is) {
+  std::uint64_t magic = 0, cells = 0, nm = 0;
+  getRaw(is, magic);
+  getRaw(is, cells);
+  getRaw(is, nm);
+  if (!is || magic != kCheckpointMagic) throw InputError("restart", "not an ejecta checkpoint");
+  if (cells != grid_.totalCells() || nm != mats_.size())
+    throw InputError("restart", "the checkpoint does not match this deck's mesh and materials");
+  getRaw(is, time_);
+  getRaw(is, last_dt_);
+  getRaw(is, step_);
+  getRaw(is, stats_.cell_updates);
+  getRaw(is, body_velocity_);
+  stats_.steps = step_;
+  for (auto& f : fields_) {
+    for (auto* v : {&f.alpha, &f.rho, &f.e, &f.h0}) getVec(is, *v);
+    if (!f.s[0].empty())
+      for (auto& c : f.s) getVec(is, c);
+  }
+  for (auto& c : u_) getVec(is, c);
+  if (!is) throw InputError("restart", "the checkpoint is truncated");
+}
+
 // ------------------------------------------------------------------------------------------------
 // State queries
 
@@ -209,6 +282,7 @@ Totals Solver::totals() const {
     for (int j = 0; j < grid_.cells(1); ++j)
       for (int k = 0; k < grid_.cells(2); ++k) {
         const std::size_t c = grid_.index(i, j, k);
+        if (isBody(c)) continue;
         const double v = grid_.cellVolume(i, j, k);
         double m = 0.0;
         for (std::size_t q = 0; q < fields_.size(); ++q) {
@@ -233,6 +307,7 @@ double Solver::stableTimeStep() const {
     for (int j = 0; j < n1; ++j)
       for (int k = 0; k < n2; ++k) {
         const std::size_t c = grid_.index(i, j, k);
+        if (isBody(c)) continue;
         // The signal speed: the mixture's (volume-averaged stiffness over mixture density), and
         // each material's own where it holds at least 1% of the cell. A sliver's own sound speed
         // (a hot, rarefied film of air in the products) does not govern stability: its volume
@@ -458,6 +533,11 @@ void Solver::sweep(int d, double dt) {
   const std::ptrdiff_t stride = grid_.stride(d);
   const int s_dt1 = stressIndex(d, t1), s_dt2 = stressIndex(d, t2);
   std::size_t bad_cell = std::numeric_limits<std::size_t>::max();
+  // Impulse on the body, per pencil and material (summed in pencil order afterwards, so the result
+  // does not depend on the number of threads).
+  const bool has_body = !body_.empty();
+  const double wall_u = body_velocity_[static_cast<std::size_t>(d)];
+  std::vector<double> pencil_impulse(has_body ? static_cast<std::size_t>(n1) * static_cast<std::size_t>(n2) * static_cast<std::size_t>(M) : 0, 0.0);
   // Geometry along the sweep axis is the same for every pencil: centres, widths, faces, and the
   // inverse centre spacings the slopes use.
   const int Nl = n + 2 * g;
@@ -516,6 +596,7 @@ void Solver::sweep(int d, double dt) {
         for (int i = 0; i < N; ++i) {
           const std::size_t c = cell(i), si = static_cast<std::size_t>(i);
           for (std::size_t q = 0; q < 3; ++q) P.u[q][si] = u_[q][c];
+          P.solid[si] = has_body ? body_[c] : 0;
           double rho = 0.0, p = 0.0, kv = 0.0, snn = 0.0, stt = 0.0, sh1 = 0.0, sh2 = 0.0;
           for (int k = 0; k < M; ++k) {
             const auto& F = fields_[static_cast<std::size_t>(k)];
@@ -560,8 +641,8 @@ void Solver::sweep(int d, double dt) {
         // ---- slopes of normal velocity and normal stress (cells 1..N-2)
         for (int i = 1; i < N - 1; ++i) {
           const std::size_t si = static_cast<std::size_t>(i);
-          if (!second) {
-            P.su[si] = P.sp[si] = 0.0;
+          if (!second || (has_body && (P.solid[si - 1] | P.solid[si] | P.solid[si + 1]))) {
+            P.su[si] = P.sp[si] = 0.0;   // first order beside the body
             continue;
           }
           const double il = line_inv[si], ir = line_inv[si + 1];
@@ -577,12 +658,37 @@ void Solver::sweep(int d, double dt) {
           const double uR = un[R] - hr * P.su[R] - 0.5 * dt * P.sp[R] / P.rho[R];
           const double pR = P.P[R] - hr * P.sp[R] - 0.5 * dt * P.K[R] * P.su[R];
           const double zl = P.Z[L], zr = P.Z[R], zs = zl + zr;
+          if (has_body && (P.solid[L] | P.solid[R])) {
+            // a wall moving with the body: the flow's half of the Riemann problem, no swept volume
+            double ps = 0.0;
+            if (!P.solid[L]) ps = pL + zl * (uL - wall_u);
+            else if (!P.solid[R]) ps = pR + zr * (wall_u - uR);
+            P.ustar[static_cast<std::size_t>(f)] = wall_u;
+            P.pstar[static_cast<std::size_t>(f)] = ps;
+            P.dvol[static_cast<std::size_t>(f)] = 0.0;
+            continue;
+          }
           const double us = (zl * uL + zr * uR + pL - pR) / zs;
           P.ustar[static_cast<std::size_t>(f)] = us;
           P.pstar[static_cast<std::size_t>(f)] = (zr * pL + zl * pR + zl * zr * (uL - uR)) / zs;
           const double disp = us * dt, rf = line_rf[static_cast<std::size_t>(f)];
           P.dvol[static_cast<std::size_t>(f)] =
               radial ? P.ring_width * 0.5 * ((rf + disp) * std::abs(rf + disp) - rf * std::abs(rf)) : P.area[static_cast<std::size_t>(f)] * disp;
+        }
+        // ---- the load on the body: faces between a flow cell and an interior body cell
+        if (has_body) {
+          const std::size_t pencil = static_cast<std::size_t>(a) * static_cast<std::size_t>(n2) + static_cast<std::size_t>(b);
+          for (int f = g; f <= g + n; ++f) {
+            const std::size_t L = static_cast<std::size_t>(f - 1), R = static_cast<std::size_t>(f);
+            if (!(P.solid[L] ^ P.solid[R])) continue;
+            const bool body_right = P.solid[R] != 0;
+            if ((body_right && f == g + n) || (!body_right && f == g)) continue;   // body cell is a ghost
+            const std::size_t fluid = body_right ? L : R;
+            const double imp = (body_right ? 1.0 : -1.0) * P.pstar[R] * P.area[R] * dt;
+            for (int k = 0; k < M; ++k)
+              pencil_impulse[pencil * static_cast<std::size_t>(M) + static_cast<std::size_t>(k)] +=
+                  imp * P.a[static_cast<std::size_t>(k * N) + fluid];
+          }
         }
         // ---- Lagrange phase, cells g-1 .. g+n
         for (int i = g - 1; i <= g + n; ++i) {
@@ -615,7 +721,11 @@ void Solver::sweep(int d, double dt) {
             const std::size_t comp = static_cast<std::size_t>(tt == 0 ? t1 : t2);
             const auto& sh = P.shear[static_cast<std::size_t>(tt)];
             const auto& ut = P.u[comp];
-            const double tr = 0.5 * (sh[si] + sh[si + 1]), tl = 0.5 * (sh[si - 1] + sh[si]);
+            double tr = 0.5 * (sh[si] + sh[si + 1]), tl = 0.5 * (sh[si - 1] + sh[si]);
+            if (has_body) {   // free slip on the body: no shear traction
+              if (P.solid[si] | P.solid[si + 1]) tr = 0.0;
+              if (P.solid[si - 1] | P.solid[si]) tl = 0.0;
+            }
             const double ur = 0.5 * (ut[si] + ut[si + 1]), ul = 0.5 * (ut[si - 1] + ut[si]);
             P.mom[comp][si] = m * ut[si] + dt * (Ar * tr - Al * tl);
             E += dt * (Ar * tr * ur - Al * tl * ul);
@@ -764,9 +874,12 @@ void Solver::sweep(int d, double dt) {
             } else {
               double rho_f = P.mk[kD] / P.vk[kD], e_f = P.iek[kD] / P.mk[kD];
               if (second && P.a[kD - 1] > kPureCell && P.a[kD] > kPureCell && P.a[kD + 1] > kPureCell) {
+                // A slope may not push what stays in the donor outside the donor's own range: its
+                // effect is scaled down when more than half the donor leaves.
                 const double il = line_inv[sD], ir = line_inv[sD + 1];
-                rho_f += offset * vanLeer((P.r[kD] - P.r[kD - 1]) * il, (P.r[kD + 1] - P.r[kD]) * ir);
-                e_f += offset * vanLeer((P.e[kD] - P.e[kD - 1]) * il, (P.e[kD + 1] - P.e[kD]) * ir);
+                const double keep = std::min(1.0, (P.vk[kD] - dvk[k]) / dvk[k]);
+                rho_f += keep * offset * vanLeer((P.r[kD] - P.r[kD - 1]) * il, (P.r[kD + 1] - P.r[kD]) * ir);
+                e_f += keep * offset * vanLeer((P.e[kD] - P.e[kD - 1]) * il, (P.e[kD + 1] - P.e[kD]) * ir);
               }
               mflux = std::min(rho_f * dvk[k], P.mk[kD]);
               eflux = mflux * e_f;
@@ -780,11 +893,12 @@ void Solver::sweep(int d, double dt) {
             dm += mflux;
           }
           double ke = 0.0;
+          const double keep_m = dm > 0.0 ? std::clamp((P.mass[sD] - dm) / dm, 0.0, 1.0) : 1.0;
           for (std::size_t q = 0; q < 3; ++q) {
             const auto& uq = P.u[q];
             double uf = P.mom[q][sD] / P.mass[sD];
             if (second) {
-              uf += offset * vanLeer((uq[sD] - uq[sD - 1]) * line_inv[sD], (uq[sD + 1] - uq[sD]) * line_inv[sD + 1]);
+              uf += keep_m * offset * vanLeer((uq[sD] - uq[sD - 1]) * line_inv[sD], (uq[sD + 1] - uq[sD]) * line_inv[sD + 1]);
             }
             P.fmom[q][sf] = sign * dm * uf;
             ke += 0.5 * dm * uf * uf;
@@ -794,6 +908,7 @@ void Solver::sweep(int d, double dt) {
         // ---- new Eulerian state of cells g .. g+n-1, scattered back
         for (int i = g; i < g + n; ++i) {
           const std::size_t si = static_cast<std::size_t>(i), c = cell(i);
+          if (has_body && P.solid[si]) continue;   // the body's cells keep their (unused) state
           double m = 0.0, vs = 0.0;
           double mk_new[8], vk_new[8], ie_new[8];
           for (int k = 0; k < M; ++k) {
@@ -850,6 +965,14 @@ void Solver::sweep(int d, double dt) {
 #pragma omp critical
     bad_cell = std::min(bad_cell, my_bad);
   }
+  if (has_body) {
+    for (std::size_t pc = 0; pc < pencil_impulse.size() / static_cast<std::size_t>(M); ++pc)
+      for (int k = 0; k < M; ++k) {
+        const double imp = pencil_impulse[pc * static_cast<std::size_t>(M) + static_cast<std::size_t>(k)];
+        body_impulse_[static_cast<std::size_t>(d)] += imp;
+        body_impulse_mat_[static_cast<std::size_t>(k)][static_cast<std::size_t>(d)] += imp;
+      }
+  }
   if (bad_cell != std::numeric_limits<std::size_t>::max()) checkCell(bad_cell, d == 0 ? "sweep along axis 0" : (d == 1 ? "sweep along axis 1" : "sweep along axis 2"));
 }
 
@@ -880,6 +1003,8 @@ void Solver::checkCell(std::size_t cell, const char* stage) const {
 
 void Solver::step(double dt) {
   if (!(dt > 0.0) || !std::isfinite(dt)) throw RunError(fmt::format("invalid time step {:g} s at t = {:.6g} s", dt, time_));
+  body_impulse_ = Vec3{};
+  for (auto& v : body_impulse_mat_) v = Vec3{};
   updateBurn(dt);
   updateStress(dt);
   const int dims = grid_.dims();

@@ -19,6 +19,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <iosfwd>
 #include <string>
 #include <vector>
 
@@ -82,6 +83,24 @@ class Solver {
   // Direct access for set-up code that builds states cell by cell (initial conditions only).
   MaterialFields& fieldForSetup(int mat) { return fields_[static_cast<std::size_t>(mat)]; }
 
+  // --- a rigid body (the target) -----------------------------------------------------------------
+  // Cells whose centre is inside the body become walls that move with the body's velocity: no
+  // material enters them; the normal stress the flow exerts on their faces (from the same Riemann
+  // solver) is the load, and the flow gets the opposite momentum, so momentum is conserved exactly.
+  // The body's cells stay where they are (its displacement is small against the flow's; the run
+  // driver tracks it).
+  void setBody(const std::function<bool(const Vec3&)>& inside);
+  void setBodyVelocity(Vec3 v) { body_velocity_ = v; }
+  bool isBody(std::size_t cell) const { return !body_.empty() && body_[cell] != 0; }
+  // Impulse given to the body during the last step, N s (axisymmetric: per radian), in total and
+  // by material (the material of the flow cell beside each face, by volume fraction).
+  const Vec3& lastBodyImpulse() const { return body_impulse_; }
+  const std::vector<Vec3>& lastBodyImpulseByMaterial() const { return body_impulse_mat_; }
+
+  // --- checkpoints: the whole state, bit for bit ------------------------------------------------
+  void writeCheckpoint(std::ostream& os) const;
+  void readCheckpoint(std::istream& is);   // throws InputError if it does not fit this set-up
+
   // --- time stepping --------------------------------------------------------------------------
   double stableTimeStep() const;         // CFL step from the current state
   void step(double dt);                  // one full step (all sweeps); throws RunError on blow-up
@@ -117,6 +136,10 @@ class Solver {
   SolverOptions opt_;
   std::vector<MaterialFields> fields_;
   std::array<std::vector<double>, 3> u_;
+  std::vector<unsigned char> body_;     // 1 in the rigid body's cells
+  Vec3 body_velocity_{};
+  Vec3 body_impulse_{};
+  std::vector<Vec3> body_impulse_mat_;
   std::vector<double> wlic_;             // per material and cell: share of the interface facing axis d
   std::vector<double> light_distance_;   // m, to the nearest detonation point (+inf without one)
   std::vector<double> light_delay_;      // s, that point's own lighting time

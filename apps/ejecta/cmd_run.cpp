@@ -1,0 +1,91 @@
+// `ejecta run [DECK]`: the main job: one buried-charge case from its deck to a run folder.
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "commands.hpp"
+#include "core/error.hpp"
+#include "ejecta/build_info.hpp"
+#include "scenario/run.hpp"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace ejecta::cli {
+namespace {
+namespace fs = std::filesystem;
+
+struct RunCliOptions {
+  std::string deck;
+  std::string out;
+  int threads = 0;
+  std::string cell_size_mm;
+  std::vector<std::string> sets;
+  std::string checkpoint_at;
+  std::string restart;
+  bool quiet = false;
+  bool plot = true;
+};
+
+// A deck named without a path is looked up among the built-in decks.
+std::string resolveDeck(const std::string& name) {
+  if (name.empty()) return (fs::path(build_info::decks_dir) / "emi-flat-7.toml").string();
+  if (fs::exists(name)) return name;
+  const fs::path builtin = fs::path(build_info::decks_dir) / (name + (fs::path(name).has_extension() ? "" : ".toml"));
+  if (fs::exists(builtin)) return builtin.string();
+  throw InputError("deck", fmt::format("'{}' is neither a file nor a built-in deck (see {})", name, build_info::decks_dir));
+}
+
+int runRun(const RunCliOptions& o) {
+  if (o.threads < 0) throw InputError("threads", fmt::format("{} is out of range; valid >= 0 (0: all cores)", o.threads));
+#ifdef _OPENMP
+  if (o.threads > 0) omp_set_num_threads(o.threads);
+#endif
+  const std::string path = resolveDeck(o.deck);
+  std::vector<std::string> overrides = o.sets;
+  if (!o.cell_size_mm.empty()) overrides.push_back("mesh.cell_size_m=" + fmt::format("{:g}", parseNumber("cell-size", o.cell_size_mm) / 1000.0));
+  const auto deck = scenario::loadDeck(path, overrides);
+  scenario::RunOptions ro;
+  ro.out_dir = o.out.empty() ? (fs::path("out/run") / fs::path(path).stem()).string() : o.out;
+  if (!o.checkpoint_at.empty()) ro.checkpoint_at_s = parseNumber("checkpoint-at", o.checkpoint_at);
+  ro.restart = o.restart;
+  ro.progress = !o.quiet;
+  ro.plot = o.plot;
+  ro.log = [](const std::string& m) { std::cerr << "run: " << m << '\n'; };
+  std::cerr << fmt::format("run: {} ({}), core cells {:g} mm, to {:g} ms -> {}\n", deck.title, path, deck.mesh.cell_size_m * 1e3, deck.end_time_s * 1e3,
+                           ro.out_dir);
+  const auto r = scenario::runCase(deck, ro);
+  std::cout << fmt::format(
+      "{}\n  impulse on the target: {:.1f} N s (air {:.1f}, products {:.1f}, soil {:.1f})\n  peak force {:.4g} N, plate velocity {:.3g} m/s, "
+      "displacement {:.3g} mm\n  {} cells, {} steps, {:.1f} s wall\n  wrote {}/summary.json, history.csv, gauges.csv, surface_profiles.csv, "
+      "fields.pvd{}\n",
+      deck.title, r.impulse_Ns, r.impulse_air_Ns, r.impulse_products_Ns, r.impulse_soil_Ns, r.peak_force_N, r.final_velocity_m_s,
+      r.displacement_m * 1e3, r.cells, r.steps, r.wall_s, ro.out_dir, o.plot ? ", plots.png" : "");
+  return 0;
+}
+}  // namespace
+
+Action addRunCommand(CLI::App& app) {
+  auto o = std::make_shared<RunCliOptions>();
+  auto* sub = app.add_subcommand("run", "Runs a buried-charge case from a TOML deck (default: the built-in EMI flat plate at 7%).\n"
+                                        "Built-in decks: emi-flat-7, emi-flat-14, emi-flat-22, vimf-flat, dres-3cm, dres-8cm,\n"
+                                        "field-bed22-cover22, field-bed22-cover14, field-bed22-cover7 (and -2.5cm variants).");
+  sub->add_option("deck", o->deck, "Deck file, or the name of a built-in deck");
+  sub->add_option("--out", o->out, "Run folder (default out/run/<deck name>)");
+  sub->add_option("--threads", o->threads, "OpenMP threads (default: all cores)");
+  sub->add_option("--cell-size", o->cell_size_mm, "Core cell size, mm (overrides mesh.cell_size_m)");
+  sub->add_option("--set", o->sets, "Override a deck field: KEY=VALUE (dotted key, TOML value), repeatable");
+  sub->add_option("--checkpoint-at", o->checkpoint_at, "Write <out>/checkpoint.bin when the run reaches this time, s");
+  sub->add_option("--restart", o->restart, "Continue from a checkpoint written by the same deck");
+  sub->add_flag("--quiet", o->quiet, "No progress lines");
+  sub->add_flag("!--no-plot", o->plot, "Skip plots.png");
+  return [sub, o]() -> int {
+    if (!sub->parsed()) return -1;
+    return runRun(*o);
+  };
+}
+
+}  // namespace ejecta::cli

@@ -1,0 +1,123 @@
+#include "scenario/case.hpp"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+
+namespace ejecta::scenario {
+
+ChargeGeometry chargeGeometry(const ChargeSpec& c) {
+  const auto mat = materials::explosive(c.explosive);
+  const double volume = c.mass_kg / mat.jwl.rho0;
+  ChargeGeometry g{};
+  if (c.shape == "sphere") {
+    g.radius_m = std::cbrt(3.0 * volume / (4.0 * M_PI));
+    g.height_m = 2.0 * g.radius_m;
+  } else {   // V = pi D^2 / 4 * (k D)  with k = height / diameter
+    const double dia = std::cbrt(4.0 * volume / (M_PI * c.height_to_diameter));
+    g.radius_m = 0.5 * dia;
+    g.height_m = c.height_to_diameter * dia;
+  }
+  g.z_top_m = -c.depth_of_burial_m;
+  g.z_bottom_m = g.z_top_m - g.height_m;
+  const double zd = c.detonation == "bottom" ? g.z_bottom_m : (c.detonation == "top" ? g.z_top_m : 0.5 * (g.z_top_m + g.z_bottom_m));
+  g.detonation_m = {0.0, zd, 0.0};
+  return g;
+}
+
+namespace {
+materials::SandInputs sandInputs(double wet, double dry, double moisture, const std::string& water_eos, double plateau_scale) {
+  materials::SandInputs in = wet > 0.0 ? materials::SandInputs::fromWetDensity(wet, moisture) : materials::SandInputs{};
+  if (!(wet > 0.0)) {
+    in.dry_density = dry;
+    in.moisture = moisture;
+  }
+  in.water = materials::waterEosByName(water_eos);
+  in.plateau.scale = plateau_scale;
+  return in;
+}
+}  // namespace
+
+Case buildCase(const Deck& deck) {
+  const auto& m = deck.mesh;
+  const double h = m.cell_size_m;
+  const mesh::Axis r_axis = mesh::Axis::graded(0.0, m.domain_radius_m, 0.0, m.core_radius_m, h, m.grading);
+  const mesh::Axis z_axis = mesh::Axis::graded(m.domain_bottom_m, m.domain_top_m, m.core_bottom_m, m.core_top_m, h, m.grading);
+  Case cs;
+  cs.charge = chargeGeometry(deck.charge);
+  if (cs.charge.radius_m > m.core_radius_m || cs.charge.z_bottom_m < m.core_bottom_m)
+    throw InputError("charge", fmt::format("the charge (radius {:.3f} m, bottom at z = {:.3f} m) must lie inside the uniform mesh core",
+                                           cs.charge.radius_m, cs.charge.z_bottom_m));
+
+  std::vector<materials::Material> mats{materials::air(), materials::explosive(deck.charge.explosive)};
+  cs.material_kind = {"air", "products"};
+  for (std::size_t i = 0; i < deck.soil.size(); ++i) {
+    const auto& s = deck.soil[i];
+    try {
+      mats.push_back(materials::sand(sandInputs(s.wet_density_kg_m3, s.dry_density_kg_m3, s.moisture, s.water_eos, s.plateau_scale), s.name));
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("soil[{}].{}", i, e.field()), e.what());
+    }
+    cs.material_kind.push_back("soil");
+  }
+  const int backfill_mat = deck.backfill.enabled ? static_cast<int>(mats.size()) : -1;
+  if (deck.backfill.enabled) {
+    const auto& b = deck.backfill;
+    try {
+      mats.push_back(materials::sand(sandInputs(b.wet_density_kg_m3, b.dry_density_kg_m3, b.moisture, deck.soil[0].water_eos, deck.soil[0].plateau_scale), "backfill"));
+    } catch (const InputError& e) {
+      throw InputError("backfill." + e.field(), e.what());
+    }
+    cs.material_kind.push_back("soil");
+  }
+
+  hydro::SolverOptions o;
+  o.cfl = deck.cfl;
+  o.boundary[0] = {mesh::BoundaryKind::Reflect, mesh::BoundaryKind::Transmit};
+  o.boundary[1] = {mesh::BoundaryKind::Reflect, mesh::BoundaryKind::Transmit};   // rigid ground below
+  o.boundary[2] = {mesh::BoundaryKind::Reflect, mesh::BoundaryKind::Reflect};
+  if (deck.gravity) o.gravity = {0.0, -9.81, 0.0};
+  o.detonation.push_back({cs.charge.detonation_m, 0.0});
+  o.initial_dt_fraction = 0.1;
+  cs.solver = std::make_unique<hydro::Solver>(mesh::Grid(2, mesh::Geometry::Axisymmetric, {r_axis, z_axis, mesh::Axis{}}), mats, o);
+  auto& s = *cs.solver;
+
+  const double e_air = deck.air_pressure_pa / (0.4 * deck.air_density_kg_m3);
+  s.paint(0, [](const hydro::Vec3&) { return true; }, deck.air_density_kg_m3, e_air);
+  for (std::size_t i = 0; i < deck.soil.size(); ++i) {
+    const auto& l = deck.soil[i];
+    const int k = static_cast<int>(2 + i);
+    s.paint(k, [&l](const hydro::Vec3& x) { return x[1] < l.top_m && x[1] >= l.bottom_m && (l.radius_m <= 0.0 || x[0] < l.radius_m); },
+            mats[static_cast<std::size_t>(k)].referenceDensity(), 0.0);
+  }
+  const auto& ch = cs.charge;
+  if (backfill_mat >= 0) {
+    const double rb = deck.backfill.radius_m > 0.0 ? deck.backfill.radius_m : ch.radius_m + 0.05;
+    s.paint(backfill_mat, [&](const hydro::Vec3& x) { return x[0] < rb && x[1] < 0.0 && x[1] >= ch.z_top_m; },
+            mats[static_cast<std::size_t>(backfill_mat)].referenceDensity(), 0.0);
+  }
+  const auto& ex = mats[1].jwl;
+  if (deck.charge.shape == "sphere") {
+    const double zc = 0.5 * (ch.z_top_m + ch.z_bottom_m);
+    s.paint(1, [&](const hydro::Vec3& x) { return std::hypot(x[0], x[1] - zc) < ch.radius_m; }, ex.rho0, ex.e0 / ex.rho0, {}, 8);
+  } else {
+    s.paint(1, [&](const hydro::Vec3& x) { return x[0] < ch.radius_m && x[1] < ch.z_top_m && x[1] >= ch.z_bottom_m; }, ex.rho0,
+            ex.e0 / ex.rho0, {}, 8);
+  }
+  const auto& t = deck.target;
+  if (t.kind != "none") {
+    auto& p = cs.plate;
+    p.present = true;
+    p.r_inner_m = t.kind == "annulus" ? t.inner_radius_m : 0.0;
+    p.r_outer_m = t.radius_m;
+    p.z_bottom_m = t.standoff_m;
+    p.z_top_m = t.standoff_m + t.thickness_m;
+    p.area_m2 = M_PI * (p.r_outer_m * p.r_outer_m - p.r_inner_m * p.r_inner_m);
+    s.setBody([p](const hydro::Vec3& x) { return x[0] >= p.r_inner_m && x[0] < p.r_outer_m && x[1] >= p.z_bottom_m && x[1] < p.z_top_m; });
+  }
+  return cs;
+}
+
+}  // namespace ejecta::scenario

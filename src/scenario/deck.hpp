@@ -1,0 +1,84 @@
+#pragma once
+// The input deck of `ejecta run`: a TOML file (toml++) describing one buried-charge case. Every
+// field's unit is in its name (_m, _kg, _s, _kg_m3, _pa); unknown keys and out-of-range values
+// are InputErrors naming the key. `--set key=value` overrides any field before validation.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace ejecta::scenario {
+
+struct MeshSpec {
+  double cell_size_m = 0.01;
+  double grading = 1.05;          // - growth of the cells outside the uniform core
+  double core_radius_m = 0.55;    // uniform core r in [0, core_radius]
+  double core_bottom_m = -0.25, core_top_m = 0.15;
+  double domain_radius_m = 1.2;
+  double domain_bottom_m = -0.85, domain_top_m = 0.8;
+};
+
+struct SoilSpec {
+  std::string name = "sand";
+  double wet_density_kg_m3 = 0.0;   // give wet or dry
+  double dry_density_kg_m3 = 0.0;
+  double moisture = 0.07;           // - gravimetric
+  double top_m = 0.0, bottom_m = -0.85;
+  double radius_m = 0.0;            // 0: the whole width of the domain
+  std::string water_eos = "awg";
+  double plateau_scale = 1.0;
+};
+
+struct ChargeSpec {
+  std::string explosive = "CompB";
+  double mass_kg = 0.674;
+  std::string shape = "cylinder";     // cylinder (disc), sphere
+  double height_to_diameter = 1.0 / 3.0;
+  double depth_of_burial_m = 0.05;    // soil cover over the top of the charge
+  std::string detonation = "bottom";  // bottom, centre, top (on the axis)
+};
+
+struct BackfillSpec {
+  bool enabled = false;
+  double radius_m = 0.0;              // 0: the charge radius + 0.05 m
+  double wet_density_kg_m3 = 0.0, dry_density_kg_m3 = 0.0, moisture = 0.07;
+};
+
+struct TargetSpec {
+  std::string kind = "disc";          // disc, annulus, none
+  double radius_m = 0.451, inner_radius_m = 0.0;
+  double thickness_m = 0.06;
+  double standoff_m = 0.0;            // from the soil surface to the plate's underside
+  double mass_kg = 300.0;
+  std::string motion = "free";        // free (load and gravity) or fixed
+};
+
+struct OutputSpec {
+  double history_interval_s = 1e-5;
+  std::vector<double> profile_times_s{0.5e-3, 1e-3, 2e-3, 4e-3};
+  std::vector<double> field_times_s{1e-3, 5e-3};
+  std::vector<std::vector<double>> gauges_m;   // [r, z] points
+};
+
+struct Deck {
+  std::string title = "ejecta case";
+  std::string geometry = "axisymmetric";
+  MeshSpec mesh;
+  std::vector<SoilSpec> soil;
+  BackfillSpec backfill;
+  ChargeSpec charge;
+  double air_pressure_pa = 101325.0, air_density_kg_m3 = 1.225;
+  TargetSpec target;
+  bool gravity = true;
+  double end_time_s = 0.01;
+  double cfl = 0.45;
+  OutputSpec output;
+  nlohmann::json echo;   // the deck as read, after overrides
+};
+
+// Parses TOML text; `overrides` are "dotted.key=value" with a TOML value. Throws InputError.
+Deck parseDeck(const std::string& text, const std::vector<std::string>& overrides = {}, const std::string& source = "deck");
+Deck loadDeck(const std::string& path, const std::vector<std::string>& overrides = {});
+
+}  // namespace ejecta::scenario

@@ -1,0 +1,317 @@
+#include "scenario/run.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "ejecta/build_info.hpp"
+#include "io/subprocess.hpp"
+#include "io/vtk.hpp"
+#include "scenario/case.hpp"
+
+namespace ejecta::scenario {
+namespace {
+namespace fs = std::filesystem;
+constexpr double kTwoPi = 2.0 * M_PI;   // axisymmetric: per radian -> whole target
+
+// Everything the driver accumulates, so that a checkpoint holds it and a restart continues it.
+struct DriverState {
+  double plate_z = 0.0, plate_v = 0.0;
+  double impulse = 0.0, peak_force = 0.0;
+  std::vector<double> impulse_kind{0.0, 0.0, 0.0};   // air, products, soil
+  std::vector<std::vector<double>> history, gauges;
+  std::vector<double> profile_times;
+  std::vector<std::vector<double>> profiles;   // surface height per r column
+  std::vector<double> field_times;
+  double next_history = 0.0;
+  std::size_t next_profile = 0, next_field = 0;
+  bool checkpoint_written = false;
+};
+
+void putList(std::ostream& os, const std::vector<double>& v) {
+  const std::uint64_t n = v.size();
+  os.write(reinterpret_cast<const char*>(&n), sizeof n);
+  os.write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(n * sizeof(double)));
+}
+std::vector<double> getList(std::istream& is) {
+  std::uint64_t n = 0;
+  is.read(reinterpret_cast<char*>(&n), sizeof n);
+  if (!is || n > (1ULL << 32)) throw InputError("restart", "the checkpoint is damaged");
+  std::vector<double> v(n);
+  is.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(n * sizeof(double)));
+  return v;
+}
+void putTable(std::ostream& os, const std::vector<std::vector<double>>& t) {
+  putList(os, {static_cast<double>(t.size())});
+  for (const auto& r : t) putList(os, r);
+}
+std::vector<std::vector<double>> getTable(std::istream& is) {
+  const auto n = getList(is);
+  std::vector<std::vector<double>> t;
+  for (std::size_t i = 0; i < static_cast<std::size_t>(n.at(0)); ++i) t.push_back(getList(is));
+  return t;
+}
+void putState(std::ostream& os, const DriverState& s) {
+  putList(os, {s.plate_z, s.plate_v, s.impulse, s.peak_force, s.next_history, static_cast<double>(s.next_profile),
+               static_cast<double>(s.next_field)});
+  putList(os, s.impulse_kind);
+  putTable(os, s.history);
+  putTable(os, s.gauges);
+  putList(os, s.profile_times);
+  putTable(os, s.profiles);
+  putList(os, s.field_times);
+}
+void getState(std::istream& is, DriverState& s) {
+  const auto a = getList(is);
+  if (a.size() != 7) throw InputError("restart", "the checkpoint is damaged");
+  s.plate_z = a[0];
+  s.plate_v = a[1];
+  s.impulse = a[2];
+  s.peak_force = a[3];
+  s.next_history = a[4];
+  s.next_profile = static_cast<std::size_t>(a[5]);
+  s.next_field = static_cast<std::size_t>(a[6]);
+  s.impulse_kind = getList(is);
+  s.history = getTable(is);
+  s.gauges = getTable(is);
+  s.profile_times = getList(is);
+  s.profiles = getTable(is);
+  s.field_times = getList(is);
+}
+
+// Height of the soil surface in each r column: the top of the highest cell that is mostly soil.
+std::vector<double> surfaceProfile(const Case& cs) {
+  const auto& s = *cs.solver;
+  const auto& g = s.grid();
+  std::vector<double> z(static_cast<std::size_t>(g.cells(0)), std::nan(""));
+  for (int i = 0; i < g.cells(0); ++i)
+    for (int j = g.cells(1) - 1; j >= 0; --j) {
+      const std::size_t c = g.index(i, j, 0);
+      if (s.isBody(c)) continue;
+      double soil = 0.0;
+      for (int k = 0; k < s.materialCount(); ++k)
+        if (cs.material_kind[static_cast<std::size_t>(k)] == "soil") soil += s.field(k).alpha[c];
+      if (soil >= 0.5) {
+        z[static_cast<std::size_t>(i)] = g.face(1, j + 1);
+        break;
+      }
+    }
+  return z;
+}
+
+std::size_t cellAt(const mesh::Grid& g, double r, double z) {
+  auto find = [&](int d, double x) {
+    const auto& f = g.axis(d).faces();
+    const auto it = std::upper_bound(f.begin(), f.end(), x);
+    return std::clamp(static_cast<int>(it - f.begin()) - 1, 0, g.cells(d) - 1);
+  };
+  return g.index(find(0, r), find(1, z), 0);
+}
+
+std::string csvRow(const std::vector<double>& v) {
+  std::string s;
+  for (std::size_t i = 0; i < v.size(); ++i) s += fmt::format("{}{:.9g}", i ? "," : "", v[i]);
+  return s + "\n";
+}
+}  // namespace
+
+RunResult runCase(const Deck& deck, const RunOptions& opt) {
+  auto say = [&](const std::string& m) {
+    if (opt.log) opt.log(m);
+  };
+  const fs::path out(opt.out_dir);
+  if (fs::exists(out) && !fs::is_directory(out)) throw InputError("out", fmt::format("'{}' exists and is not a directory", opt.out_dir));
+  Case cs = buildCase(deck);   // validates everything before the run folder is touched
+  auto& s = *cs.solver;
+  const auto& g = s.grid();
+  DriverState st;
+  st.plate_z = cs.plate.z_bottom_m;
+  std::vector<std::size_t> gauge_cells;
+  for (const auto& p : deck.output.gauges_m) gauge_cells.push_back(cellAt(g, p[0], p[1]));
+  if (!opt.restart.empty()) {
+    std::ifstream in(opt.restart, std::ios::binary);
+    if (!in) throw InputError("restart", fmt::format("cannot read '{}'", opt.restart));
+    s.readCheckpoint(in);
+    getState(in, st);
+    if (!in) throw InputError("restart", "the checkpoint is truncated");
+    say(fmt::format("restarted from {} at t = {:.6g} s", opt.restart, s.time()));
+  }
+  fs::create_directories(out / "fields");
+
+  const bool free_plate = cs.plate.present && deck.target.motion == "free";
+  const double g_acc = deck.gravity ? 9.81 : 0.0;
+  const auto t_wall0 = std::chrono::steady_clock::now();
+  auto last_progress = t_wall0;
+  const double t_end = deck.end_time_s;
+  const std::size_t nmat = static_cast<std::size_t>(s.materialCount());
+  auto kindIndex = [&](std::size_t k) { const auto& kind = cs.material_kind[k]; return kind == "air" ? 0 : (kind == "products" ? 1 : 2); };
+  const double h_interval = deck.output.history_interval_s;
+
+  auto record = [&]() {
+    const double force = s.lastDt() > 0.0 ? kTwoPi * s.lastBodyImpulse()[1] / s.lastDt() : 0.0;
+    const auto prof = surfaceProfile(cs);
+    st.history.push_back({s.time(), st.impulse, force, st.plate_v, st.plate_z - cs.plate.z_bottom_m, st.impulse_kind[0], st.impulse_kind[1],
+                          st.impulse_kind[2], prof.empty() ? 0.0 : prof[0], s.lastDt()});
+    std::vector<double> gr{s.time()};
+    for (const auto c : gauge_cells) gr.push_back(s.pressure(c));
+    st.gauges.push_back(gr);
+  };
+  auto writeField = [&]() {
+    const std::string name = fmt::format("fields/field_{:04d}.vtr", st.next_field);
+    io::writeFileAtomically(out / name, [&](std::ostream& os) { io::writeVtr(os, s); });
+    st.field_times.push_back(s.time());
+  };
+  if (s.time() == 0.0) record();
+
+  while (s.time() < t_end * (1.0 - 1e-12)) {
+    // land exactly on output times, the checkpoint time and the end
+    double stop = std::min(t_end, st.next_history + h_interval);
+    if (st.next_profile < deck.output.profile_times_s.size()) stop = std::min(stop, deck.output.profile_times_s[st.next_profile]);
+    if (st.next_field < deck.output.field_times_s.size()) stop = std::min(stop, deck.output.field_times_s[st.next_field]);
+    if (opt.checkpoint_at_s > s.time()) stop = std::min(stop, opt.checkpoint_at_s);
+    double dt = s.stableTimeStep();
+    if (s.lastDt() > 0.0) dt = std::min(dt, 1.2 * s.lastDt());
+    else dt *= 0.1;
+    dt = std::min(dt, stop - s.time());
+    if (!(dt > 1e-15)) throw RunError(fmt::format("time step collapsed to {:g} s at t = {:.6g} s (step {})", dt, s.time(), s.stats().steps));
+    s.setBodyVelocity({0.0, st.plate_v, 0.0});
+    s.step(dt);
+    // the target: what the flow gives it, per material kind
+    const double iz = kTwoPi * s.lastBodyImpulse()[1];
+    st.impulse += iz;
+    for (std::size_t k = 0; k < nmat; ++k) st.impulse_kind[static_cast<std::size_t>(kindIndex(k))] += kTwoPi * s.lastBodyImpulseByMaterial()[k][1];
+    st.peak_force = std::max(st.peak_force, std::abs(iz / dt));
+    if (free_plate) {
+      st.plate_v += iz / deck.target.mass_kg - g_acc * dt;
+      st.plate_z += st.plate_v * dt;
+    }
+    const double t = s.time();
+    if (t >= st.next_history + h_interval * (1.0 - 1e-9) || t >= t_end * (1.0 - 1e-12)) {
+      st.next_history = t;
+      record();
+    }
+    if (st.next_profile < deck.output.profile_times_s.size() && t >= deck.output.profile_times_s[st.next_profile] * (1.0 - 1e-12)) {
+      st.profile_times.push_back(t);
+      st.profiles.push_back(surfaceProfile(cs));
+      ++st.next_profile;
+    }
+    if (st.next_field < deck.output.field_times_s.size() && t >= deck.output.field_times_s[st.next_field] * (1.0 - 1e-12)) {
+      writeField();
+      ++st.next_field;
+    }
+    if (opt.checkpoint_at_s > 0.0 && !st.checkpoint_written && t >= opt.checkpoint_at_s * (1.0 - 1e-12)) {
+      io::writeFileAtomically(out / "checkpoint.bin", [&](std::ostream& os) {
+        s.writeCheckpoint(os);
+        putState(os, st);
+      });
+      st.checkpoint_written = true;
+      say(fmt::format("wrote checkpoint at t = {:.6g} s", t));
+    }
+    const auto now = std::chrono::steady_clock::now();
+    if (opt.progress && std::chrono::duration<double>(now - last_progress).count() > 2.0) {
+      last_progress = now;
+      const double wall = std::chrono::duration<double>(now - t_wall0).count();
+      const double left = t > 0.0 ? wall * (t_end - t) / std::max(t - (opt.restart.empty() ? 0.0 : 0.0), 1e-30) : 0.0;
+      std::fprintf(stderr, "t = %.4g ms / %.4g ms, step %lld, dt %.3g s, %zu cells, wall %.1f s, left ~%.0f s, impulse %.1f N s\n", t * 1e3,
+                   t_end * 1e3, static_cast<long long>(s.stats().steps), dt, g.interiorCells(), wall, left, st.impulse);
+    }
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_wall0).count();
+
+  RunResult res;
+  res.impulse_Ns = st.impulse;
+  res.impulse_air_Ns = st.impulse_kind[0];
+  res.impulse_products_Ns = st.impulse_kind[1];
+  res.impulse_soil_Ns = st.impulse_kind[2];
+  res.peak_force_N = st.peak_force;
+  res.final_velocity_m_s = st.plate_v;
+  res.displacement_m = st.plate_z - cs.plate.z_bottom_m;
+  res.steps = s.stats().steps;
+  res.cells = g.interiorCells();
+  res.wall_s = wall;
+
+  // ---- the run folder
+  io::writeFileAtomically(out / "history.csv", [&](std::ostream& os) {
+    os << "t_s,impulse_Ns,force_N,plate_velocity_m_s,plate_displacement_m,impulse_air_Ns,impulse_products_Ns,impulse_soil_Ns,"
+          "bubble_height_on_axis_m,dt_s\n";
+    for (const auto& r : st.history) os << csvRow(r);
+  });
+  io::writeFileAtomically(out / "gauges.csv", [&](std::ostream& os) {
+    os << "t_s";
+    for (const auto& p : deck.output.gauges_m) os << fmt::format(",p_Pa@r{:g}_z{:g}", p[0], p[1]);
+    os << "\n";
+    for (const auto& r : st.gauges) os << csvRow(r);
+  });
+  io::writeFileAtomically(out / "surface_profiles.csv", [&](std::ostream& os) {
+    os << "r_m";
+    for (const double t : st.profile_times) os << fmt::format(",z_m@t{:.6g}s", t);
+    os << "\n";
+    for (int i = 0; i < g.cells(0); ++i) {
+      os << fmt::format("{:.6g}", g.centre(0, i));
+      for (const auto& p : st.profiles) os << fmt::format(",{:.6g}", p[static_cast<std::size_t>(i)]);
+      os << "\n";
+    }
+  });
+  std::vector<std::pair<double, std::string>> snaps;
+  for (std::size_t i = 0; i < st.field_times.size(); ++i) snaps.push_back({st.field_times[i], fmt::format("fields/field_{:04d}.vtr", i)});
+  io::writeFileAtomically(out / "fields.pvd", [&](std::ostream& os) { io::writePvd(os, snaps); });
+  nlohmann::json sum;
+  sum["ejecta_version"] = build_info::version;
+  sum["title"] = deck.title;
+  sum["deck"] = deck.echo;
+  sum["units"] = "SI: N s, N, m/s, m, s";
+  sum["result"] = {{"impulse_Ns", res.impulse_Ns},
+                   {"impulse_by_material_Ns", {{"air", res.impulse_air_Ns}, {"products", res.impulse_products_Ns}, {"soil", res.impulse_soil_Ns}}},
+                   {"peak_force_N", res.peak_force_N},
+                   {"final_plate_velocity_m_s", res.final_velocity_m_s},
+                   {"plate_displacement_m", res.displacement_m},
+                   {"end_time_s", s.time()}};
+  sum["charge"] = {{"radius_m", cs.charge.radius_m}, {"height_m", cs.charge.height_m}, {"z_top_m", cs.charge.z_top_m},
+                   {"z_bottom_m", cs.charge.z_bottom_m}, {"detonation_z_m", cs.charge.detonation_m[1]}};
+  sum["run"] = {{"cells", res.cells},
+                {"steps", res.steps},
+                {"wall_seconds", res.wall_s},
+                {"cell_updates_per_second", res.wall_s > 0 ? s.stats().cell_updates / res.wall_s : 0.0},
+                {"core_cell_size_m", deck.mesh.cell_size_m},
+                {"restarted_from", opt.restart}};
+  io::writeFileAtomically(out / "summary.json", sum.dump(2) + "\n");
+  if (opt.plot) {
+    const fs::path data = io::temporarySibling(out / "plot_data.json");
+    nlohmann::json pd;
+    pd["title"] = deck.title;
+    pd["history"] = st.history;
+    pd["profile_times"] = st.profile_times;
+    std::vector<double> rc;
+    for (int i = 0; i < g.cells(0); ++i) rc.push_back(g.centre(0, i));
+    pd["r"] = rc;
+    nlohmann::json profs = nlohmann::json::array();
+    for (const auto& p : st.profiles) {
+      nlohmann::json row = nlohmann::json::array();
+      for (const double v : p) row.push_back(std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr));
+      profs.push_back(row);
+    }
+    pd["profiles"] = profs;
+    io::writeFileAtomically(data, pd.dump());
+    const fs::path png_tmp = io::temporarySibling(out / "plots.png");
+    try {
+      io::runPlotScript("plot_run.py", data, png_tmp);
+      fs::rename(png_tmp, out / "plots.png");
+    } catch (...) {
+      fs::remove(data);
+      fs::remove(png_tmp);
+      throw;
+    }
+    fs::remove(data);
+  }
+  return res;
+}
+
+}  // namespace ejecta::scenario

@@ -1,0 +1,35 @@
+#pragma once
+// `ejecta run`: one buried-charge case from its deck to the run folder: summary.json,
+// history.csv (plate impulse, force, velocity, displacement, impulse by material, bubble height),
+// gauges.csv, surface_profiles.csv, fields/*.vtr + fields.pvd (ParaView), plots.png, and on
+// request a checkpoint that a restart continues bit for bit.
+#include <functional>
+#include <string>
+
+#include "scenario/deck.hpp"
+
+namespace ejecta::scenario {
+
+struct RunOptions {
+  std::string out_dir = "out/run";
+  double checkpoint_at_s = -1.0;   // write checkpoint.bin when the run passes this time (< 0: never)
+  std::string restart;             // continue from this checkpoint
+  bool progress = true;            // progress lines on stderr
+  bool plot = true;
+  std::function<void(const std::string&)> log;
+};
+
+struct RunResult {
+  double impulse_Ns = 0.0;          // total, delivered by the flow to the target (full 360 degrees)
+  double impulse_air_Ns = 0.0, impulse_products_Ns = 0.0, impulse_soil_Ns = 0.0;
+  double peak_force_N = 0.0;
+  double final_velocity_m_s = 0.0;
+  double displacement_m = 0.0;
+  long long steps = 0;
+  std::size_t cells = 0;
+  double wall_s = 0.0;
+};
+
+RunResult runCase(const Deck& deck, const RunOptions& opt);
+
+}  // namespace ejecta::scenario

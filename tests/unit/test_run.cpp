@@ -1,0 +1,94 @@
+// The target coupling and the decks of `ejecta run`: momentum conservation, the reflected
+// pressure of a shock on a fixed plate, and deck errors that name the key.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/error.hpp"
+#include "hydro/solver.hpp"
+#include "scenario/deck.hpp"
+#include "verify/exact.hpp"
+
+namespace {
+using namespace ejecta;
+using hydro::Vec3;
+using mesh::Axis;
+using mesh::BoundaryKind;
+
+TEST(Coupling, FlowAndBodyExchangeMomentumExactly) {
+  hydro::SolverOptions o;
+  for (auto& b : o.boundary) b = {BoundaryKind::Periodic, BoundaryKind::Periodic};   // no walls: only the body takes momentum
+  hydro::Solver s(mesh::Grid(2, mesh::Geometry::Cartesian, {Axis::uniform(0.0, 1.0, 40), Axis::uniform(0.0, 1.0, 40), Axis{}}),
+                  {materials::air()}, o);
+  s.paint(0, [](const Vec3&) { return true; }, 1.225, 2e5);
+  s.paint(0, [](const Vec3& x) { return std::hypot(x[0] - 0.3, x[1] - 0.3) < 0.15; }, 5.0, 2e6);   // a blast
+  s.setBody([](const Vec3& x) { return x[0] > 0.55 && x[0] < 0.75 && x[1] > 0.5 && x[1] < 0.6; });
+  const auto a = s.totals();
+  Vec3 body{};
+  for (int n = 0; n < 60; ++n) {
+    s.step(s.stableTimeStep());
+    for (int d = 0; d < 3; ++d) body[static_cast<std::size_t>(d)] += s.lastBodyImpulse()[static_cast<std::size_t>(d)];
+  }
+  const auto b = s.totals();
+  EXPECT_GT(std::abs(body[1]), 1e-4);   // the blast has reached the body
+  // what the body gained, the flow lost
+  for (std::size_t d = 0; d < 2; ++d) EXPECT_NEAR(b.momentum[d] - a.momentum[d] + body[d], 0.0, 1e-9 * std::abs(body[1]) + 1e-12) << d;
+  EXPECT_NEAR(b.mass[0] / a.mass[0], 1.0, 1e-12);   // nothing enters the body
+}
+
+TEST(Coupling, ShockReflectsFromAFixedPlateWithTheExactPressure) {
+  // A shock in air running into a plate: the reflected pressure against the exact Riemann problem
+  // of the post-shock state and its mirror image.
+  const double g = 1.4;
+  const verify::GasState pre{1.0, 0.0, 1.0};
+  const double ms = 2.0;   // shock Mach number
+  const double c0 = std::sqrt(g * pre.p / pre.rho), us = ms * c0;
+  const double rho1 = pre.rho * (g + 1) * ms * ms / ((g - 1) * ms * ms + 2), p1 = pre.p * (2 * g * ms * ms - (g - 1)) / (g + 1);
+  const double u1 = us * (1.0 - pre.rho / rho1);
+  const verify::ExactRiemann refl({rho1, u1, p1}, {rho1, -u1, p1}, g);
+  hydro::SolverOptions o;
+  for (auto& b : o.boundary) b = {BoundaryKind::Transmit, BoundaryKind::Transmit};
+  const int n = 400;
+  hydro::Solver s(mesh::Grid(1, mesh::Geometry::Cartesian, {Axis::uniform(0.0, 1.0, n), Axis{}, Axis{}}), {materials::idealGas("gas", g)}, o);
+  s.paint(0, [](const Vec3&) { return true; }, pre.rho, pre.p / (0.4 * pre.rho));
+  s.paint(0, [](const Vec3& x) { return x[0] < 0.3; }, rho1, p1 / (0.4 * rho1), {u1, 0.0, 0.0}, 1);
+  s.setBody([](const Vec3& x) { return x[0] > 0.8; });
+  s.advanceTo(0.5 / us + 0.05);   // the shock has reflected and travelled back a little
+  const double p_wall = s.pressure(s.grid().index(static_cast<int>(0.8 * n) - 3, 0, 0));
+  EXPECT_NEAR(p_wall / refl.starPressure(), 1.0, 0.02);
+}
+
+TEST(Deck, UnknownKeysAndBadValuesNameTheKey) {
+  const std::string base = R"(
+[[soil]]
+wet_density_kg_m3 = 1370.0
+moisture = 0.07
+)";
+  EXPECT_NO_THROW(scenario::parseDeck(base));
+  auto field = [&](const std::string& text, const std::vector<std::string>& ov = {}) {
+    try {
+      scenario::parseDeck(text, ov);
+    } catch (const InputError& e) {
+      return e.field();
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(field(base + "\n[charge]\nmas_kg = 1.0\n"), "charge.mas_kg");
+  EXPECT_EQ(field(base + "\n[charge]\nmass_kg = -1.0\n"), "charge.mass_kg");
+  EXPECT_EQ(field(base, {"charge.explosive=Semtex"}), "charge.explosive");
+  EXPECT_EQ(field(base, {"soil.moisture=0.1"}), "soil.moisture");   // [[soil]] is a list: set it in the deck
+  EXPECT_EQ(field(base, {"charge.depth_of_burial_m=5.0"}), "charge.depth_of_burial_m");   // outside the domain
+  EXPECT_EQ(field(base, {"mesh.cell_size_m=-0.01"}), "mesh.cell_size_m");
+  EXPECT_EQ(field(base, {"nonsense"}), "--set");
+  EXPECT_EQ(field("[[soil]]\nwet_density_kg_m3 = 1370.0\nmoisture = 1.5\n"), "soil[0].moisture");
+  EXPECT_EQ(field("x = [\n"), "deck");   // syntax error
+}
+
+TEST(Deck, SetOverridesAField) {
+  const auto d = scenario::parseDeck("[[soil]]\nwet_density_kg_m3 = 1370.0\nmoisture = 0.07\n", {"mesh.cell_size_m=0.004", "charge.explosive=C4"});
+  EXPECT_DOUBLE_EQ(d.mesh.cell_size_m, 0.004);
+  EXPECT_EQ(d.charge.explosive, "C4");
+  EXPECT_DOUBLE_EQ(d.echo["mesh"]["cell_size_m"].get<double>(), 0.004);
+}
+
+}  // namespace
