@@ -787,15 +787,19 @@ void Solver::sweep(int d, double dt) {
               if (P.a[ki] <= kAlphaMin) continue;
               const double dk = P.a[ki] * Vl * (P.pk[ki] - p_eq) / std::max(P.kk[ki], 1.0);
               if (dk < 0.0) theta = std::min(theta, 0.5 * P.vk[ki] / -dk);
+              if (dk > 0.0) theta = std::min(theta, P.vk[ki] / dk);   // at most double in a step
             }
             double relax_heat = 0.0;
             for (int k = 0; k < M; ++k) {
               const std::size_t ki = static_cast<std::size_t>(k * N + i);
               if (P.a[ki] <= kAlphaMin) continue;
-              const double dk = theta * P.a[ki] * Vl * (P.pk[ki] - p_eq) / std::max(P.kk[ki], 1.0);
+              const double kk = std::max(P.kk[ki], 1.0);
+              const double dk = theta * P.a[ki] * Vl * (P.pk[ki] - p_eq) / kk;
+              // each material works at its own pressure, averaged over the exchange...
+              const double w_relax = (P.pk[ki] - 0.5 * kk * dk / std::max(P.vk[ki], 1e-300)) * dk;
               P.vk[ki] += dk;
-              P.iek[ki] -= P.pk[ki] * dk;   // each material works at its own pressure...
-              relax_heat += P.pk[ki] * dk;  // ...and the irreversible remainder (>= 0) is heat
+              P.iek[ki] -= w_relax;
+              relax_heat += w_relax;   // ...and the irreversible remainder is heat
             }
             for (int k = 0; k < M; ++k) {
               const std::size_t ki = static_cast<std::size_t>(k * N + i);

@@ -96,8 +96,10 @@ inline EosState evaluateEos(const Material& m, double rho, double e, double h0) 
       const double dpdrho = -dpdv * v / rho + w * e;
       double bulk = rho * dpdrho + w * p;   // rho c^2 = rho dp/drho|e + (p/rho) dp/de|rho
       bulk = bulk > 1e5 ? bulk : 1e5;
+      // Products carry no tension: a sliver driven below zero pressure (by the errors of a mixed
+      // cell) would otherwise pull on everything around it.
       const double f = h0;
-      return {f * p, bulk};
+      return {p > 0.0 ? f * p : 0.0, bulk};
     }
     case EosKind::MieGruneisen: {
       const auto& g = m.mg;

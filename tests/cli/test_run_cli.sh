@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# `ejecta run` as a user runs it: the run folder's outputs, a checkpoint whose restart reproduces
+# the uninterrupted run bit for bit, and deck errors that name the key and leave nothing behind.
+set -uo pipefail
+ejecta=$1
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+fail=0
+pass=0
+check() { if eval "$2"; then pass=$((pass + 1)); else echo "FAIL: $1"; fail=$((fail + 1)); fi; }
+common=(emi-flat-7 --cell-size 25 --set end_time_s=0.0006 --set 'output.field_times_s=[0.0004]' --set 'output.profile_times_s=[0.0002,0.0005]' --quiet)
+
+"$ejecta" run "${common[@]}" --checkpoint-at 0.0003 --out a > a.txt 2> a.err
+rc=$?
+check "run exits 0 (rc $rc: $(tail -1 a.err))" "[[ $rc -eq 0 ]]"
+for f in summary.json history.csv gauges.csv surface_profiles.csv fields.pvd plots.png checkpoint.bin; do
+  check "a/$f written" "[[ -s a/$f ]]"
+done
+check "a field snapshot" "ls a/fields/field_0000.vtr > /dev/null 2>&1 && grep -q RectilinearGrid a/fields/field_0000.vtr"
+check "summary parses, impulse > 0" "python3 -c 'import json; d=json.load(open(\"a/summary.json\")); assert d[\"result\"][\"impulse_Ns\"] > 0; assert d[\"deck\"][\"end_time_s\"] == 0.0006'"
+check "no temporary files left" "[[ -z \$(find . -name '.*tmp*') ]]"
+
+"$ejecta" run "${common[@]}" --restart a/checkpoint.bin --out b --no-plot > b.txt 2> b.err
+check "restart exits 0 ($(tail -1 b.err))" "[[ $? -eq 0 ]]"
+check "restart: history bit for bit" "cmp -s a/history.csv b/history.csv"
+check "restart: gauges bit for bit" "cmp -s a/gauges.csv b/gauges.csv"
+check "restart: surface profiles bit for bit" "cmp -s a/surface_profiles.csv b/surface_profiles.csv"
+
+err=$("$ejecta" run "${common[@]}" --set charge.mas_kg=1 --out c 2>&1 >/dev/null)
+rc=$?
+check "unknown key: exit 2 (got $rc)" "[[ $rc -eq 2 ]]"
+check "unknown key: names charge.mas_kg ('$err')" "grep -q 'charge.mas_kg' <<< \"\$err\""
+check "unknown key: nothing written" "[[ ! -e c ]]"
+err=$("$ejecta" run "${common[@]}" --set charge.depth_of_burial_m=3 --out c 2>&1 >/dev/null)
+check "charge outside the domain: exit 2 naming it" "[[ $? -eq 2 ]] && grep -q depth_of_burial <<< \"\$err\""
+err=$("$ejecta" run "${common[@]}" --set 'soil=[{dry_density_kg_m3=1670.0, moisture=0.30}]' --out c 2>&1 >/dev/null)
+check "saturation over 100%: exit 2 naming the soil" "[[ $? -eq 2 ]] && grep -q 'soil\[0\]' <<< \"\$err\""
+err=$("$ejecta" run no-such-deck --out c 2>&1 >/dev/null)
+check "missing deck: exit 2" "[[ $? -eq 2 ]] && grep -q deck <<< \"\$err\""
+check "nothing written by the failures" "[[ ! -e c ]]"
+
+echo "$pass passed, $fail failed"
+[[ $fail -eq 0 ]]
