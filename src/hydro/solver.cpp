@@ -795,8 +795,9 @@ void Solver::sweep(int d, double dt) {
               if (P.a[ki] <= kAlphaMin) continue;
               const double kk = std::max(P.kk[ki], 1.0);
               const double dk = theta * P.a[ki] * Vl * (P.pk[ki] - p_eq) / kk;
-              // each material works at its own pressure, averaged over the exchange...
-              const double w_relax = (P.pk[ki] - 0.5 * kk * dk / std::max(P.vk[ki], 1e-300)) * dk;
+              // each material works at its own pressure (not a linearised average: that heats a
+              // squeezed sliver of air without bound)...
+              const double w_relax = P.pk[ki] * dk;
               P.vk[ki] += dk;
               P.iek[ki] -= w_relax;
               relax_heat += w_relax;   // ...and the irreversible remainder is heat
