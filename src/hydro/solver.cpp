@@ -537,6 +537,7 @@ void Solver::sweep(int d, double dt) {
   // does not depend on the number of threads).
   const bool has_body = !body_.empty();
   const double wall_u = body_velocity_[static_cast<std::size_t>(d)];
+  const double friction = opt_.body_friction;
   std::vector<double> pencil_impulse(has_body ? static_cast<std::size_t>(n1) * static_cast<std::size_t>(n2) * static_cast<std::size_t>(M) : 0, 0.0);
   // Geometry along the sweep axis is the same for every pencil: centres, widths, faces, and the
   // inverse centre spacings the slopes use.
@@ -729,6 +730,16 @@ void Solver::sweep(int d, double dt) {
             const double ur = 0.5 * (ut[si] + ut[si + 1]), ul = 0.5 * (ut[si - 1] + ut[si]);
             P.mom[comp][si] = m * ut[si] + dt * (Ar * tr - Al * tl);
             E += dt * (Ar * tr * ur - Al * tl * ul);
+            if (has_body && friction > 0.0 && !P.solid[si] && (P.solid[si - 1] | P.solid[si + 1])) {
+              // Coulomb friction on the body's face: mu times the compressive normal stress,
+              // opposing the sliding, never reversing it within a step. The kinetic energy it
+              // removes stays in the cell's total energy, i.e. becomes heat.
+              const double pn = std::max(P.solid[si + 1] ? P.pstar[fr] : 0.0, 0.0) * Ar +
+                                std::max(P.solid[si - 1] ? P.pstar[si] : 0.0, 0.0) * Al;
+              const double slide = P.mom[comp][si] - m * body_velocity_[comp];
+              const double cut = std::min(friction * pn * dt, std::abs(slide));
+              P.mom[comp][si] -= std::copysign(cut, slide);
+            }
           }
           const double inv_m = 1.0 / m;
           for (std::size_t q = 0; q < 3; ++q) ke1 += 0.5 * P.mom[q][si] * P.mom[q][si] * inv_m;

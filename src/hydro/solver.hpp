@@ -46,6 +46,7 @@ struct SolverOptions {
   double max_dt = 1.0;                   // s
   double min_dt = 1e-14;                 // s: below this the step has collapsed and the run stops
   double initial_dt_fraction = 0.1;      // first step = this fraction of the CFL step
+  double body_friction = 0.0;            // - Coulomb coefficient between the flow and the body
 };
 
 // One material's fields over the block (ghosts included), flat arrays.

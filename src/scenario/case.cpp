@@ -81,6 +81,7 @@ Case buildCase(const Deck& deck) {
   if (deck.gravity) o.gravity = {0.0, -9.81, 0.0};
   o.detonation.push_back({cs.charge.detonation_m, 0.0});
   o.initial_dt_fraction = 0.1;
+  o.body_friction = deck.target.kind != "none" ? deck.target.friction : 0.0;
   cs.solver = std::make_unique<hydro::Solver>(mesh::Grid(2, mesh::Geometry::Axisymmetric, {r_axis, z_axis, mesh::Axis{}}), mats, o);
   auto& s = *cs.solver;
 

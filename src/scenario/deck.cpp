@@ -247,7 +247,9 @@ Deck parseDeck(const std::string& text, const std::vector<std::string>& override
     r.num("standoff_m", t.standoff_m);
     r.num("mass_kg", t.mass_kg);
     r.str("motion", t.motion);
+    r.num("friction", t.friction);
     r.finish();
+    range("target.friction", t.friction, 0.0, 2.0, "-");
     oneOf("target.kind", t.kind, {"disc", "annulus", "none"});
     oneOf("target.motion", t.motion, {"free", "fixed"});
     if (t.kind != "none") {

@@ -52,6 +52,7 @@ struct TargetSpec {
   double standoff_m = 0.0;            // from the soil surface to the plate's underside
   double mass_kg = 300.0;
   std::string motion = "free";        // free (load and gravity) or fixed
+  double friction = 0.0;              // - Coulomb coefficient, plate against soil and gas
 };
 
 struct OutputSpec {

@@ -58,6 +58,24 @@ TEST(Coupling, ShockReflectsFromAFixedPlateWithTheExactPressure) {
   EXPECT_NEAR(p_wall / refl.starPressure(), 1.0, 0.02);
 }
 
+TEST(Coupling, FrictionTakesMuTimesTheNormalLoadFromTheSlidingFlow) {
+  hydro::SolverOptions o;
+  for (auto& b : o.boundary) b = {BoundaryKind::Periodic, BoundaryKind::Periodic};
+  o.boundary[1] = {BoundaryKind::Reflect, BoundaryKind::Reflect};
+  o.body_friction = 0.2;
+  const double p = 1e5, rho = 1.2, u = 10.0;
+  hydro::Solver s(mesh::Grid(2, mesh::Geometry::Cartesian, {Axis::uniform(0.0, 1.0, 20), Axis::uniform(0.0, 1.0, 20), Axis{}}), {materials::air()}, o);
+  s.paint(0, [](const Vec3&) { return true; }, rho, p / (0.4 * rho), {u, 0.0, 0.0});
+  s.setBody([](const Vec3& x) { return x[1] > 0.9; });   // a plate over the flow, wall faces at y = 0.9
+  const auto a = s.totals();
+  const double dt = 0.2 * s.stableTimeStep();
+  s.step(dt);
+  const auto b = s.totals();
+  // one wall face per column, 1 m wide in total, normal stress p (no normal velocity)
+  EXPECT_NEAR((a.momentum[0] - b.momentum[0]) / (0.2 * p * 1.0 * dt), 1.0, 1e-6);
+  EXPECT_NEAR(b.total() / a.total(), 1.0, 1e-12);   // the lost kinetic energy became heat
+}
+
 TEST(Deck, UnknownKeysAndBadValuesNameTheKey) {
   const std::string base = R"(
 [[soil]]
