@@ -9,6 +9,7 @@ using Action = std::function<int()>;
 Action addSoilCommand(CLI::App& app);
 Action addVerifyCommand(CLI::App& app);
 Action addRunCommand(CLI::App& app);
+Action addSweepCommand(CLI::App& app);
 
 // Parses a number given on the command line; `percent_ok` accepts "7%" as 0.07.
 double parseNumber(const std::string& field, const std::string& text, bool percent_ok = false);

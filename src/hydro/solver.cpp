@@ -309,9 +309,9 @@ double Solver::stableTimeStep() const {
         const std::size_t c = grid_.index(i, j, k);
         if (isBody(c)) continue;
         // The signal speed: the mixture's (volume-averaged stiffness over mixture density), and
-        // each material's own where it holds at least 1% of the cell. A sliver's own sound speed
-        // (a hot, rarefied film of air in the products) does not govern stability: its volume
-        // follows the cell's.
+        // each material's own where it holds at least 10% of the cell. A sliver's own sound speed
+        // (a hot, rarefied film of air in the products, 1e5 m/s) does not govern stability: its
+        // volume follows the cell's, and no wave runs inside it.
         double c2 = 0.0, kv = 0.0, rho_mix = 0.0;
         for (std::size_t q = 0; q < fields_.size(); ++q) {
           const auto& f = fields_[q];
@@ -325,7 +325,7 @@ double Solver::stableTimeStep() const {
           }
           kv += f.alpha[c] * kk;
           rho_mix += f.alpha[c] * f.rho[c];
-          if (f.alpha[c] >= 0.01) c2 = std::max(c2, kk / f.rho[c]);
+          if (f.alpha[c] >= 0.1) c2 = std::max(c2, kk / f.rho[c]);
         }
         c2 = std::max(c2, kv / rho_mix);
         const double cs = std::sqrt(c2);
