@@ -73,50 +73,77 @@ Case buildCase(const Deck& deck) {
     cs.material_kind.push_back("soil");
   }
 
+  const bool three_d = deck.geometry == "3d-quarter";
+  cs.vertical = three_d ? 2 : 1;
+  cs.symmetry = three_d ? 4.0 : 2.0 * M_PI;
+  const int up = cs.vertical;
   hydro::SolverOptions o;
   o.cfl = deck.cfl;
-  o.boundary[0] = {mesh::BoundaryKind::Reflect, mesh::BoundaryKind::Transmit};
-  o.boundary[1] = {mesh::BoundaryKind::Reflect, mesh::BoundaryKind::Transmit};   // rigid ground below
-  o.boundary[2] = {mesh::BoundaryKind::Reflect, mesh::BoundaryKind::Reflect};
-  if (deck.gravity) o.gravity = {0.0, -9.81, 0.0};
-  o.detonation.push_back({cs.charge.detonation_m, 0.0});
+  // low sides: axis or symmetry planes; high sides: outflow; the bottom: rigid ground
+  for (auto& b : o.boundary) b = {mesh::BoundaryKind::Reflect, mesh::BoundaryKind::Transmit};
+  if (deck.gravity) o.gravity[static_cast<std::size_t>(up)] = -9.81;
+  hydro::Vec3 det{0.0, 0.0, 0.0};
+  det[static_cast<std::size_t>(up)] = cs.charge.detonation_m[1];
+  o.detonation.push_back({det, 0.0});
   o.initial_dt_fraction = 0.1;
   o.body_friction = deck.target.kind != "none" ? deck.target.friction : 0.0;
-  cs.solver = std::make_unique<hydro::Solver>(mesh::Grid(2, mesh::Geometry::Axisymmetric, {r_axis, z_axis, mesh::Axis{}}), mats, o);
+  if (three_d)
+    cs.solver = std::make_unique<hydro::Solver>(mesh::Grid(3, mesh::Geometry::Cartesian, {r_axis, r_axis, z_axis}), mats, o);
+  else
+    cs.solver = std::make_unique<hydro::Solver>(mesh::Grid(2, mesh::Geometry::Axisymmetric, {r_axis, z_axis, mesh::Axis{}}), mats, o);
   auto& s = *cs.solver;
+  // shapes see (radius from the vertical axis, height) whatever the mesh
+  auto rz = [three_d](const hydro::Vec3& x) { return three_d ? std::array<double, 2>{std::hypot(x[0], x[1]), x[2]} : std::array<double, 2>{x[0], x[1]}; };
 
   const double e_air = deck.air_pressure_pa / (0.4 * deck.air_density_kg_m3);
   s.paint(0, [](const hydro::Vec3&) { return true; }, deck.air_density_kg_m3, e_air);
   for (std::size_t i = 0; i < deck.soil.size(); ++i) {
     const auto& l = deck.soil[i];
     const int k = static_cast<int>(2 + i);
-    s.paint(k, [&l](const hydro::Vec3& x) { return x[1] < l.top_m && x[1] >= l.bottom_m && (l.radius_m <= 0.0 || x[0] < l.radius_m); },
+    s.paint(k, [&l, &rz](const hydro::Vec3& x) { const auto p = rz(x); return p[1] < l.top_m && p[1] >= l.bottom_m && (l.radius_m <= 0.0 || p[0] < l.radius_m); },
             mats[static_cast<std::size_t>(k)].referenceDensity(), 0.0);
   }
   const auto& ch = cs.charge;
   if (backfill_mat >= 0) {
     const double rb = deck.backfill.radius_m > 0.0 ? deck.backfill.radius_m : ch.radius_m + 0.05;
-    s.paint(backfill_mat, [&](const hydro::Vec3& x) { return x[0] < rb && x[1] < 0.0 && x[1] >= ch.z_top_m; },
+    s.paint(backfill_mat, [&](const hydro::Vec3& x) { const auto p = rz(x); return p[0] < rb && p[1] < 0.0 && p[1] >= ch.z_top_m; },
             mats[static_cast<std::size_t>(backfill_mat)].referenceDensity(), 0.0);
   }
   const auto& ex = mats[1].jwl;
   if (deck.charge.shape == "sphere") {
     const double zc = 0.5 * (ch.z_top_m + ch.z_bottom_m);
-    s.paint(1, [&](const hydro::Vec3& x) { return std::hypot(x[0], x[1] - zc) < ch.radius_m; }, ex.rho0, ex.e0 / ex.rho0, {}, 8);
+    s.paint(1, [&](const hydro::Vec3& x) { const auto p = rz(x); return std::hypot(p[0], p[1] - zc) < ch.radius_m; }, ex.rho0, ex.e0 / ex.rho0, {}, 8);
   } else {
-    s.paint(1, [&](const hydro::Vec3& x) { return x[0] < ch.radius_m && x[1] < ch.z_top_m && x[1] >= ch.z_bottom_m; }, ex.rho0,
-            ex.e0 / ex.rho0, {}, 8);
+    s.paint(1, [&](const hydro::Vec3& x) { const auto p = rz(x); return p[0] < ch.radius_m && p[1] < ch.z_top_m && p[1] >= ch.z_bottom_m; }, ex.rho0,
+            ex.e0 / ex.rho0, {}, three_d ? 4 : 8);
   }
   const auto& t = deck.target;
   if (t.kind != "none") {
     auto& p = cs.plate;
     p.present = true;
-    p.r_inner_m = t.kind == "annulus" ? t.inner_radius_m : 0.0;
-    p.r_outer_m = t.radius_m;
     p.z_bottom_m = t.standoff_m;
     p.z_top_m = t.standoff_m + t.thickness_m;
-    p.area_m2 = M_PI * (p.r_outer_m * p.r_outer_m - p.r_inner_m * p.r_inner_m);
-    s.setBody([p](const hydro::Vec3& x) { return x[0] >= p.r_inner_m && x[0] < p.r_outer_m && x[1] >= p.z_bottom_m && x[1] < p.z_top_m; });
+    if (t.kind == "disc" || t.kind == "annulus") {
+      p.r_inner_m = t.kind == "annulus" ? t.inner_radius_m : 0.0;
+      p.r_outer_m = t.radius_m;
+      p.area_m2 = M_PI * (p.r_outer_m * p.r_outer_m - p.r_inner_m * p.r_inner_m);
+      s.setBody([p, &rz](const hydro::Vec3& x) { const auto q = rz(x); return q[0] >= p.r_inner_m && q[0] < p.r_outer_m && q[1] >= p.z_bottom_m && q[1] < p.z_top_m; });
+    } else {
+      // rectangle, or a V whose ridge runs along x with its keel down: each wing rises at
+      // (90 - apex/2) degrees; thickness measured across the wing.
+      const double hl = t.half_length_m, hw = t.half_width_m;
+      const double rise = t.kind == "v" ? 1.0 / std::tan(0.5 * t.apex_angle_deg * M_PI / 180.0) : 0.0;
+      const double thick = t.kind == "v" ? t.thickness_m / std::sin(0.5 * t.apex_angle_deg * M_PI / 180.0) : t.thickness_m;
+      p.area_m2 = 4.0 * hl * hw;
+      p.r_outer_m = std::hypot(hl, hw);
+      const double z0 = t.standoff_m;
+      s.setBody([=](const hydro::Vec3& x) {
+        const double ax = std::abs(x[0]), ay = std::abs(x[1]);
+        if (ax >= hl || ay >= hw) return false;
+        const double zb = z0 + ay * rise;
+        return x[2] >= zb && x[2] < zb + thick;
+      });
+    }
   }
   return cs;
 }

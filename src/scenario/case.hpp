@@ -23,6 +23,8 @@ struct PlateGeometry {
 
 struct Case {
   std::unique_ptr<hydro::Solver> solver;
+  int vertical = 1;          // the mesh axis that points up (1 in r-z, 2 in 3D)
+  double symmetry = 0.0;     // modelled part -> whole: 2 pi (per radian, axisymmetric) or 4 (quarter)
   std::vector<std::string> material_kind;   // per material: "air", "products" or "soil"
   ChargeGeometry charge;
   PlateGeometry plate;

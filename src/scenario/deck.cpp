@@ -163,7 +163,7 @@ Deck parseDeck(const std::string& text, const std::vector<std::string>& override
   Reader top(&root, "");
   top.str("title", d.title);
   top.str("geometry", d.geometry);
-  oneOf("geometry", d.geometry, {"axisymmetric"});
+  oneOf("geometry", d.geometry, {"axisymmetric", "3d-quarter"});
   top.boolean("gravity", d.gravity);
   top.num("end_time_s", d.end_time_s);
   range("end_time_s", d.end_time_s, 0.0, 1.0, "s", true);
@@ -248,9 +248,17 @@ Deck parseDeck(const std::string& text, const std::vector<std::string>& override
     r.num("mass_kg", t.mass_kg);
     r.str("motion", t.motion);
     r.num("friction", t.friction);
+    r.num("half_length_m", t.half_length_m);
+    r.num("half_width_m", t.half_width_m);
+    r.num("apex_angle_deg", t.apex_angle_deg);
     r.finish();
     range("target.friction", t.friction, 0.0, 2.0, "-");
-    oneOf("target.kind", t.kind, {"disc", "annulus", "none"});
+    oneOf("target.kind", t.kind, {"disc", "annulus", "rectangle", "v", "none"});
+    if ((t.kind == "rectangle" || t.kind == "v") && d.geometry != "3d-quarter")
+      throw InputError("target.kind", fmt::format("'{}' needs geometry = \"3d-quarter\" (2D axisymmetric: disc or annulus)", t.kind));
+    range("target.half_length_m", t.half_length_m, 0.0, d.mesh.domain_radius_m, "m", true);
+    range("target.half_width_m", t.half_width_m, 0.0, d.mesh.domain_radius_m, "m", true);
+    range("target.apex_angle_deg", t.apex_angle_deg, 30.0, 180.0, "degrees");
     oneOf("target.motion", t.motion, {"free", "fixed"});
     if (t.kind != "none") {
       range("target.radius_m", t.radius_m, 0.0, d.mesh.domain_radius_m, "m", true);

@@ -46,13 +46,16 @@ struct BackfillSpec {
 };
 
 struct TargetSpec {
-  std::string kind = "disc";          // disc, annulus, none
+  std::string kind = "disc";          // disc, annulus (2D and 3D); rectangle, v (3D); none
   double radius_m = 0.451, inner_radius_m = 0.0;
   double thickness_m = 0.06;
   double standoff_m = 0.0;            // from the soil surface to the plate's underside
   double mass_kg = 300.0;
   std::string motion = "free";        // free (load and gravity) or fixed
   double friction = 0.0;              // - Coulomb coefficient, plate against soil and gas
+  double half_length_m = 0.4;         // rectangle and V: half extent along x (the V's ridge), m
+  double half_width_m = 0.4;          // rectangle and V: half extent along y, m
+  double apex_angle_deg = 120.0;      // V: angle between its two wings (180 = flat), degrees
 };
 
 struct OutputSpec {
@@ -64,7 +67,7 @@ struct OutputSpec {
 
 struct Deck {
   std::string title = "ejecta case";
-  std::string geometry = "axisymmetric";
+  std::string geometry = "axisymmetric";   // or "3d-quarter": x, y >= 0 symmetry planes, z up
   MeshSpec mesh;
   std::vector<SoilSpec> soil;
   BackfillSpec backfill;

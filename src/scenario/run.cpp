@@ -20,7 +20,6 @@
 namespace ejecta::scenario {
 namespace {
 namespace fs = std::filesystem;
-constexpr double kTwoPi = 2.0 * M_PI;   // axisymmetric: per radian -> whole target
 
 // Everything the driver accumulates, so that a checkpoint holds it and a restart continues it.
 struct DriverState {
@@ -91,33 +90,36 @@ void getState(std::istream& is, DriverState& s) {
   s.field_times = getList(is);
 }
 
-// Height of the soil surface in each r column: the top of the highest cell that is mostly soil.
+// Height of the soil surface in each column along the first horizontal axis (r; x at y = 0 in 3D):
+// the top of the highest cell that is mostly soil.
 std::vector<double> surfaceProfile(const Case& cs) {
   const auto& s = *cs.solver;
   const auto& g = s.grid();
+  const int up = cs.vertical;
   std::vector<double> z(static_cast<std::size_t>(g.cells(0)), std::nan(""));
   for (int i = 0; i < g.cells(0); ++i)
-    for (int j = g.cells(1) - 1; j >= 0; --j) {
-      const std::size_t c = g.index(i, j, 0);
+    for (int j = g.cells(up) - 1; j >= 0; --j) {
+      const std::size_t c = up == 1 ? g.index(i, j, 0) : g.index(i, 0, j);
       if (s.isBody(c)) continue;
       double soil = 0.0;
       for (int k = 0; k < s.materialCount(); ++k)
         if (cs.material_kind[static_cast<std::size_t>(k)] == "soil") soil += s.field(k).alpha[c];
       if (soil >= 0.5) {
-        z[static_cast<std::size_t>(i)] = g.face(1, j + 1);
+        z[static_cast<std::size_t>(i)] = g.face(up, j + 1);
         break;
       }
     }
   return z;
 }
 
-std::size_t cellAt(const mesh::Grid& g, double r, double z) {
+// The cell holding the point at radius r (x in 3D, on the y = 0 plane) and height z.
+std::size_t cellAt(const mesh::Grid& g, int up, double r, double z) {
   auto find = [&](int d, double x) {
     const auto& f = g.axis(d).faces();
     const auto it = std::upper_bound(f.begin(), f.end(), x);
     return std::clamp(static_cast<int>(it - f.begin()) - 1, 0, g.cells(d) - 1);
   };
-  return g.index(find(0, r), find(1, z), 0);
+  return up == 1 ? g.index(find(0, r), find(1, z), 0) : g.index(find(0, r), 0, find(2, z));
 }
 
 std::string csvRow(const std::vector<double>& v) {
@@ -136,10 +138,11 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
   Case cs = buildCase(deck);   // validates everything before the run folder is touched
   auto& s = *cs.solver;
   const auto& g = s.grid();
+  const auto up = static_cast<std::size_t>(cs.vertical);
   DriverState st;
   st.plate_z = cs.plate.z_bottom_m;
   std::vector<std::size_t> gauge_cells;
-  for (const auto& p : deck.output.gauges_m) gauge_cells.push_back(cellAt(g, p[0], p[1]));
+  for (const auto& p : deck.output.gauges_m) gauge_cells.push_back(cellAt(g, cs.vertical, p[0], p[1]));
   if (!opt.restart.empty()) {
     std::ifstream in(opt.restart, std::ios::binary);
     if (!in) throw InputError("restart", fmt::format("cannot read '{}'", opt.restart));
@@ -160,7 +163,7 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
   const double h_interval = deck.output.history_interval_s;
 
   auto record = [&]() {
-    const double force = s.lastDt() > 0.0 ? kTwoPi * s.lastBodyImpulse()[1] / s.lastDt() - st.static_force : 0.0;
+    const double force = s.lastDt() > 0.0 ? cs.symmetry * s.lastBodyImpulse()[up] / s.lastDt() - st.static_force : 0.0;
     const auto prof = surfaceProfile(cs);
     st.history.push_back({s.time(), st.impulse, force, st.plate_v, st.plate_z - cs.plate.z_bottom_m, st.impulse_kind[0], st.impulse_kind[1],
                           st.impulse_kind[2], prof.empty() ? 0.0 : prof[0], s.lastDt()});
@@ -186,18 +189,20 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
     else dt *= 0.1;
     dt = std::min(dt, stop - s.time());
     if (!(dt > 1e-15)) throw RunError(fmt::format("time step collapsed to {:g} s at t = {:.6g} s (step {})", dt, s.time(), s.stats().steps));
-    s.setBodyVelocity({0.0, st.plate_v, 0.0});
+    hydro::Vec3 vb{0.0, 0.0, 0.0};
+    vb[up] = st.plate_v;
+    s.setBodyVelocity(vb);
     s.step(dt);
     // The target: what the blast gives it, per material kind. The load at rest (ambient air on the
     // plate's top against sand at zero effective pressure below; in the test the supports carry
     // it) is measured on the first step, before any wave arrives, and taken off.
     if (!st.static_known) {
-      st.static_force = kTwoPi * s.lastBodyImpulse()[1] / dt;
+      st.static_force = cs.symmetry * s.lastBodyImpulse()[up] / dt;
       st.static_known = true;
     }
-    const double iz = kTwoPi * s.lastBodyImpulse()[1] - st.static_force * dt;
+    const double iz = cs.symmetry * s.lastBodyImpulse()[up] - st.static_force * dt;
     st.impulse += iz;
-    for (std::size_t k = 0; k < nmat; ++k) st.impulse_kind[static_cast<std::size_t>(kindIndex(k))] += kTwoPi * s.lastBodyImpulseByMaterial()[k][1];
+    for (std::size_t k = 0; k < nmat; ++k) st.impulse_kind[static_cast<std::size_t>(kindIndex(k))] += cs.symmetry * s.lastBodyImpulseByMaterial()[k][up];
     st.impulse_kind[0] -= st.static_force * dt;   // the static load is the air's
     st.peak_force = std::max(st.peak_force, std::abs(iz / dt));
     if (free_plate) {
@@ -279,6 +284,7 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
   sum["title"] = deck.title;
   sum["deck"] = deck.echo;
   sum["units"] = "SI: N s, N, m/s, m, s";
+  sum["geometry"] = deck.geometry;
   sum["static_load_N"] = st.static_force;
   sum["note"] = "impulse and force are the blast's: the load at rest (static_load_N) is taken off";
   sum["result"] = {{"impulse_Ns", res.impulse_Ns},

@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "hydro/solver.hpp"
+#include "scenario/case.hpp"
 #include "scenario/deck.hpp"
 #include "verify/exact.hpp"
 
@@ -100,6 +101,48 @@ moisture = 0.07
   EXPECT_EQ(field(base, {"nonsense"}), "--set");
   EXPECT_EQ(field("[[soil]]\nwet_density_kg_m3 = 1370.0\nmoisture = 1.5\n"), "soil[0].moisture");
   EXPECT_EQ(field("x = [\n"), "deck");   // syntax error
+}
+
+TEST(Case, VPlateInThreeDimensionsSitsOnItsWingsAndTakesLoad) {
+  const std::string text = R"(
+geometry = "3d-quarter"
+[mesh]
+cell_size_m = 0.06
+core_radius_m = 0.6
+core_bottom_m = -0.3
+core_top_m = 0.5
+domain_radius_m = 0.9
+domain_bottom_m = -0.6
+domain_top_m = 0.9
+[[soil]]
+wet_density_kg_m3 = 1370.0
+moisture = 0.07
+bottom_m = -0.6
+[target]
+kind = "v"
+apex_angle_deg = 90.0
+half_length_m = 0.4
+half_width_m = 0.4
+standoff_m = 0.1
+)";
+  const auto deck = scenario::parseDeck(text);
+  auto cs = scenario::buildCase(deck);
+  auto& s = *cs.solver;
+  const auto& g = s.grid();
+  EXPECT_EQ(cs.vertical, 2);
+  int body = 0;
+  for (int i = 0; i < g.cells(0); ++i)
+    for (int j = 0; j < g.cells(1); ++j)
+      for (int k = 0; k < g.cells(2); ++k) {
+        if (!s.isBody(g.index(i, j, k))) continue;
+        ++body;
+        const double y = g.centre(1, j), z = g.centre(2, k);
+        EXPECT_GE(z, 0.1 + y * 1.0 - 1e-12);   // a 90 degree V: the wings rise 1:1 from the keel
+        EXPECT_LT(g.centre(0, i), 0.4);
+      }
+  EXPECT_GT(body, 10);
+  for (int n = 0; n < 15; ++n) s.step(s.stableTimeStep());
+  EXPECT_TRUE(std::isfinite(s.lastBodyImpulse()[2]));
 }
 
 TEST(Deck, SetOverridesAField) {
