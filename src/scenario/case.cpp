@@ -15,6 +15,10 @@ ChargeGeometry chargeGeometry(const ChargeSpec& c) {
   if (c.shape == "sphere") {
     g.radius_m = std::cbrt(3.0 * volume / (4.0 * M_PI));
     g.height_m = 2.0 * g.radius_m;
+  } else if (c.shape == "box") {   // radius_m is the half side
+    const double side = std::cbrt(volume / c.height_to_diameter);
+    g.radius_m = 0.5 * side;
+    g.height_m = c.height_to_diameter * side;
   } else {   // V = pi D^2 / 4 * (k D)  with k = height / diameter
     const double dia = std::cbrt(4.0 * volume / (M_PI * c.height_to_diameter));
     g.radius_m = 0.5 * dia;
@@ -113,6 +117,9 @@ Case buildCase(const Deck& deck) {
   if (deck.charge.shape == "sphere") {
     const double zc = 0.5 * (ch.z_top_m + ch.z_bottom_m);
     s.paint(1, [&](const hydro::Vec3& x) { const auto p = rz(x); return std::hypot(p[0], p[1] - zc) < ch.radius_m; }, ex.rho0, ex.e0 / ex.rho0, {}, 8);
+  } else if (deck.charge.shape == "box") {
+    s.paint(1, [&](const hydro::Vec3& x) { return std::abs(x[0]) < ch.radius_m && std::abs(x[1]) < ch.radius_m && x[2] < ch.z_top_m && x[2] >= ch.z_bottom_m; },
+            ex.rho0, ex.e0 / ex.rho0, {}, 4);
   } else {
     s.paint(1, [&](const hydro::Vec3& x) { const auto p = rz(x); return p[0] < ch.radius_m && p[1] < ch.z_top_m && p[1] >= ch.z_bottom_m; }, ex.rho0,
             ex.e0 / ex.rho0, {}, three_d ? 4 : 8);

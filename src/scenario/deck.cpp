@@ -224,7 +224,9 @@ Deck parseDeck(const std::string& text, const std::vector<std::string>& override
     r.finish();
     oneOf("charge.explosive", c.explosive, {"C4", "CompB", "TNT"});
     range("charge.mass_kg", c.mass_kg, 0.0, 1000.0, "kg", true);
-    oneOf("charge.shape", c.shape, {"cylinder", "sphere"});
+    oneOf("charge.shape", c.shape, {"cylinder", "sphere", "box"});
+    if (c.shape == "box" && d.geometry != "3d-quarter")
+      throw InputError("charge.shape", "'box' needs geometry = \"3d-quarter\" (2D axisymmetric: cylinder or sphere)");
     range("charge.height_to_diameter", c.height_to_diameter, 0.05, 20.0, "-");
     range("charge.depth_of_burial_m", c.depth_of_burial_m, 0.0, 10.0, "m");
     oneOf("charge.detonation", c.detonation, {"bottom", "centre", "top"});

@@ -33,7 +33,7 @@ struct SoilSpec {
 struct ChargeSpec {
   std::string explosive = "CompB";
   double mass_kg = 0.674;
-  std::string shape = "cylinder";     // cylinder (disc), sphere
+  std::string shape = "cylinder";     // cylinder (disc), sphere; box (3D: square plan, side a, height k a)
   double height_to_diameter = 1.0 / 3.0;
   double depth_of_burial_m = 0.05;    // soil cover over the top of the charge
   std::string detonation = "bottom";  // bottom, centre, top (on the axis)

@@ -101,6 +101,7 @@ moisture = 0.07
   EXPECT_EQ(field(base, {"nonsense"}), "--set");
   EXPECT_EQ(field("[[soil]]\nwet_density_kg_m3 = 1370.0\nmoisture = 1.5\n"), "soil[0].moisture");
   EXPECT_EQ(field("x = [\n"), "deck");   // syntax error
+  EXPECT_EQ(field(base, {"charge.shape=box"}), "charge.shape");   // a box needs 3D
 }
 
 TEST(Case, VPlateInThreeDimensionsSitsOnItsWingsAndTakesLoad) {
