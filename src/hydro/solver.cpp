@@ -299,6 +299,29 @@ Totals Solver::totals() const {
   return t;
 }
 
+// The signal speed of one cell: the mixture's (volume-averaged stiffness over mixture density),
+// and each material's own where it holds at least 1% of the cell's mass. A nearly massless
+// material's own sound speed (a hot, rarefied film of air in the products; products expanded into
+// a void that the sand opened in tension: 1e5 to 1e7 m/s) does not govern stability: its volume
+// follows the cell's, and no wave runs inside it.
+static double cellSignalSpeed2(const std::vector<materials::Material>& mats, const std::vector<MaterialFields>& fields, std::size_t c) {
+  double c2 = 0.0, kv = 0.0, rho_mix = 0.0;
+  for (const auto& f : fields) rho_mix += f.alpha[c] * f.rho[c];
+  for (std::size_t q = 0; q < fields.size(); ++q) {
+    const auto& f = fields[q];
+    if (f.alpha[c] <= kAlphaMin) continue;
+    const auto st = materials::evaluateEos(mats[q], f.rho[c], f.e[c], f.h0[c]);
+    double kk = st.bulk;
+    if (mats[q].hasStrength()) {
+      const double g = mats[q].strength.kind == StrengthKind::VonMises ? mats[q].strength.shear_modulus : mats[q].sand->shearModulus(f.h0[c]);
+      kk += 4.0 / 3.0 * g;
+    }
+    kv += f.alpha[c] * kk;
+    if (f.alpha[c] * f.rho[c] >= 0.01 * rho_mix) c2 = std::max(c2, kk / f.rho[c]);
+  }
+  return std::max(c2, kv / rho_mix);
+}
+
 double Solver::stableTimeStep() const {
   double dt = std::numeric_limits<double>::infinity();
   const int n0 = grid_.cells(0), n1 = grid_.cells(1), n2 = grid_.cells(2), dims = grid_.dims();
@@ -308,32 +331,43 @@ double Solver::stableTimeStep() const {
       for (int k = 0; k < n2; ++k) {
         const std::size_t c = grid_.index(i, j, k);
         if (isBody(c)) continue;
-        // The signal speed: the mixture's (volume-averaged stiffness over mixture density), and
-        // each material's own where it holds at least 10% of the cell. A sliver's own sound speed
-        // (a hot, rarefied film of air in the products, 1e5 m/s) does not govern stability: its
-        // volume follows the cell's, and no wave runs inside it.
-        double c2 = 0.0, kv = 0.0, rho_mix = 0.0;
-        for (std::size_t q = 0; q < fields_.size(); ++q) {
-          const auto& f = fields_[q];
-          if (f.alpha[c] <= kAlphaMin) continue;
-          const auto st = materials::evaluateEos(mats_[q], f.rho[c], f.e[c], f.h0[c]);
-          double kk = st.bulk;
-          if (mats_[q].hasStrength()) {
-            const double g = mats_[q].strength.kind == StrengthKind::VonMises ? mats_[q].strength.shear_modulus
-                                                                             : mats_[q].sand->shearModulus(f.h0[c]);
-            kk += 4.0 / 3.0 * g;
-          }
-          kv += f.alpha[c] * kk;
-          rho_mix += f.alpha[c] * f.rho[c];
-          if (f.alpha[c] >= 0.1) c2 = std::max(c2, kk / f.rho[c]);
-        }
-        c2 = std::max(c2, kv / rho_mix);
-        const double cs = std::sqrt(c2);
+        const double cs = std::sqrt(cellSignalSpeed2(mats_, fields_, c));
         const int idx[3] = {i, j, k};
         for (int d = 0; d < dims; ++d)
           dt = std::min(dt, grid_.width(d, idx[d]) / (std::abs(u_[static_cast<std::size_t>(d)][c]) + cs + 1e-30));
       }
   return opt_.cfl * dt;
+}
+
+std::string Solver::describeLimitingCell() const {
+  double best = std::numeric_limits<double>::infinity();
+  std::size_t cell = 0;
+  for (int i = 0; i < grid_.cells(0); ++i)
+    for (int j = 0; j < grid_.cells(1); ++j)
+      for (int k = 0; k < grid_.cells(2); ++k) {
+        const std::size_t c = grid_.index(i, j, k);
+        if (isBody(c)) continue;
+        const double cs = std::sqrt(cellSignalSpeed2(mats_, fields_, c));
+        const int idx[3] = {i, j, k};
+        for (int d = 0; d < grid_.dims(); ++d) {
+          const double t = grid_.width(d, idx[d]) / (std::abs(u_[static_cast<std::size_t>(d)][c]) + cs + 1e-30);
+          if (t < best) {
+            best = t;
+            cell = c;
+          }
+        }
+      }
+  const auto ix = grid_.unflatten(cell);
+  std::string s = fmt::format("limited by cell ({}, {}, {}) at x = ({:.4g}, {:.4g}, {:.4g}) m, velocity ({:.4g}, {:.4g}, {:.4g}) m/s:", ix.i, ix.j, ix.k,
+                              grid_.centre(0, ix.i), grid_.centre(1, ix.j), grid_.centre(2, ix.k), u_[0][cell], u_[1][cell], u_[2][cell]);
+  for (std::size_t q = 0; q < mats_.size(); ++q) {
+    const auto& f = fields_[q];
+    if (f.alpha[cell] <= 0.0) continue;
+    const auto st = materials::evaluateEos(mats_[q], f.rho[cell], f.e[cell], f.h0[cell]);
+    s += fmt::format(" [{} alpha {:.3g}, rho {:.4g} kg/m3, e {:.3g} J/kg, p {:.3g} Pa, c {:.3g} m/s]", mats_[q].name, f.alpha[cell], f.rho[cell],
+                     f.e[cell], st.pressure, std::sqrt(st.bulk / f.rho[cell]));
+  }
+  return s;
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -1044,7 +1078,8 @@ void Solver::advanceTo(double t_end, const std::function<void(const Solver&)>& o
     dt = std::min({dt, opt_.max_dt, t_end - time_});
     if (!(dt >= opt_.min_dt) && t_end - time_ > opt_.min_dt) {
       // name the cell that forces the step down
-      throw RunError(fmt::format("time step collapsed to {:g} s (limit {:g} s) at t = {:.6g} s, step {}", dt, opt_.min_dt, time_, step_));
+      throw RunError(fmt::format("time step collapsed to {:g} s (limit {:g} s) at t = {:.6g} s, step {}; {}", dt, opt_.min_dt, time_, step_,
+                                 describeLimitingCell()));
     }
     step(dt);
     if (on_step) on_step(*this);

@@ -104,6 +104,9 @@ class Solver {
 
   // --- time stepping --------------------------------------------------------------------------
   double stableTimeStep() const;         // CFL step from the current state
+  // The cell that sets the time step, in words (indices, position, its materials' states): for
+  // the message when the step collapses.
+  std::string describeLimitingCell() const;
   void step(double dt);                  // one full step (all sweeps); throws RunError on blow-up
   // Steps until `t_end`; `on_step` (optional) runs after every step.
   void advanceTo(double t_end, const std::function<void(const Solver&)>& on_step = {});

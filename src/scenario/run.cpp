@@ -188,7 +188,8 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
     if (s.lastDt() > 0.0) dt = std::min(dt, 1.2 * s.lastDt());
     else dt *= 0.1;
     dt = std::min(dt, stop - s.time());
-    if (!(dt > 1e-15)) throw RunError(fmt::format("time step collapsed to {:g} s at t = {:.6g} s (step {})", dt, s.time(), s.stats().steps));
+    if (!(dt > 1e-15))
+      throw RunError(fmt::format("time step collapsed to {:g} s at t = {:.6g} s (step {}); {}", dt, s.time(), s.stats().steps, s.describeLimitingCell()));
     hydro::Vec3 vb{0.0, 0.0, 0.0};
     vb[up] = st.plate_v;
     s.setBodyVelocity(vb);
