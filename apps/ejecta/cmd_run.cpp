@@ -34,7 +34,7 @@ struct RunCliOptions {
 std::string resolveDeck(const std::string& name) {
   if (name.empty()) return (fs::path(build_info::decks_dir) / "emi-flat-7.toml").string();
   if (fs::exists(name)) return name;
-  const fs::path builtin = fs::path(build_info::decks_dir) / (name + (fs::path(name).has_extension() ? "" : ".toml"));
+  const fs::path builtin = fs::path(build_info::decks_dir) / (name.ends_with(".toml") ? name : name + ".toml");
   if (fs::exists(builtin)) return builtin.string();
   throw InputError("deck", fmt::format("'{}' is neither a file nor a built-in deck (see {})", name, build_info::decks_dir));
 }

@@ -55,7 +55,7 @@ Axis parseVary(const std::string& v) {
 
 std::string resolveDeckPath(const std::string& name) {
   if (fs::exists(name)) return name;
-  const fs::path builtin = fs::path(build_info::decks_dir) / (name + (fs::path(name).has_extension() ? "" : ".toml"));
+  const fs::path builtin = fs::path(build_info::decks_dir) / (name.ends_with(".toml") ? name : name + ".toml");
   if (fs::exists(builtin)) return builtin.string();
   throw InputError("deck", fmt::format("'{}' is neither a file nor a built-in deck (see {})", name, build_info::decks_dir));
 }
