@@ -203,7 +203,8 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
     }
     const double iz = cs.symmetry * s.lastBodyImpulse()[up] - st.static_force * dt;
     st.impulse += iz;
-    for (std::size_t k = 0; k < nmat; ++k) st.impulse_kind[static_cast<std::size_t>(kindIndex(k))] += cs.symmetry * s.lastBodyImpulseByMaterial()[k][up];
+    if (cs.plate.present)
+      for (std::size_t k = 0; k < nmat; ++k) st.impulse_kind[static_cast<std::size_t>(kindIndex(k))] += cs.symmetry * s.lastBodyImpulseByMaterial()[k][up];
     st.impulse_kind[0] -= st.static_force * dt;   // the static load is the air's
     st.peak_force = std::max(st.peak_force, std::abs(iz / dt));
     if (free_plate) {
