@@ -30,15 +30,6 @@ struct RunCliOptions {
   bool plot = true;
 };
 
-// A deck named without a path is looked up among the built-in decks.
-std::string resolveDeck(const std::string& name) {
-  if (name.empty()) return (fs::path(build_info::decks_dir) / "emi-flat-7.toml").string();
-  if (fs::exists(name)) return name;
-  const fs::path builtin = fs::path(build_info::decks_dir) / (name.ends_with(".toml") ? name : name + ".toml");
-  if (fs::exists(builtin)) return builtin.string();
-  throw InputError("deck", fmt::format("'{}' is neither a file nor a built-in deck (see {})", name, build_info::decks_dir));
-}
-
 int runRun(const RunCliOptions& o) {
   if (o.threads < 0) throw InputError("threads", fmt::format("{} is out of range; valid >= 0 (0: all cores)", o.threads));
 #ifdef _OPENMP

@@ -53,13 +53,6 @@ Axis parseVary(const std::string& v) {
   return a;
 }
 
-std::string resolveDeckPath(const std::string& name) {
-  if (fs::exists(name)) return name;
-  const fs::path builtin = fs::path(build_info::decks_dir) / (name.ends_with(".toml") ? name : name + ".toml");
-  if (fs::exists(builtin)) return builtin.string();
-  throw InputError("deck", fmt::format("'{}' is neither a file nor a built-in deck (see {})", name, build_info::decks_dir));
-}
-
 int runSweep(const SweepOptions& o) {
   if (o.threads < 0) throw InputError("threads", fmt::format("{} is out of range; valid >= 0", o.threads));
 #ifdef _OPENMP
@@ -68,7 +61,7 @@ int runSweep(const SweepOptions& o) {
   if (o.vary.empty()) throw InputError("--vary", "at least one KEY=V1,V2,... is needed");
   std::vector<Axis> axes;
   for (const auto& v : o.vary) axes.push_back(parseVary(v));
-  const std::string path = resolveDeckPath(o.deck);
+  const std::string path = resolveDeck(o.deck);
   std::vector<std::string> base = o.sets;
   if (!o.cell_size_mm.empty()) base.push_back("mesh.cell_size_m=" + fmt::format("{:g}", parseNumber("cell-size", o.cell_size_mm) / 1000.0));
   // every combination, validated before the first run

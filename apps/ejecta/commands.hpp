@@ -12,6 +12,9 @@ Action addRunCommand(CLI::App& app);
 Action addSweepCommand(CLI::App& app);
 
 // Parses a number given on the command line; `percent_ok` accepts "7%" as 0.07.
+// A deck file, or the name of a built-in deck (decks/NAME.toml); empty: the default EMI 7% deck.
+std::string resolveDeck(const std::string& name);
+
 double parseNumber(const std::string& field, const std::string& text, bool percent_ok = false);
 
 }  // namespace ejecta::cli

@@ -1,10 +1,12 @@
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 
 #include <fmt/format.h>
 
 #include "commands.hpp"
 #include "core/error.hpp"
+#include "ejecta/build_info.hpp"
 
 namespace ejecta::cli {
 
@@ -23,6 +25,15 @@ double parseNumber(const std::string& field, const std::string& text, bool perce
   if (percent_ok && v > 1.0)
     throw InputError(field, fmt::format("'{}' is ambiguous: give a fraction in [0, 1] (0.07) or a percentage (7%)", text));
   return v;
+}
+
+std::string resolveDeck(const std::string& name) {
+  namespace fs = std::filesystem;
+  if (name.empty()) return (fs::path(build_info::decks_dir) / "emi-flat-7.toml").string();
+  if (fs::exists(name)) return name;
+  const fs::path builtin = fs::path(build_info::decks_dir) / (name.ends_with(".toml") ? name : name + ".toml");
+  if (fs::exists(builtin)) return builtin.string();
+  throw InputError("deck", fmt::format("'{}' is neither a file nor a built-in deck (see {})", name, build_info::decks_dir));
 }
 
 }  // namespace ejecta::cli
