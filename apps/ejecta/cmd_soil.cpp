@@ -97,18 +97,7 @@ int runSoil(const SoilOptions& o) {
       outputs.stage(dir / "yield_curve.csv", [&](std::ostream& os) { io::writeYieldCurveCsv(os, model); });
       outputs.stage(dir / "summary.csv", [&](std::ostream& os) { io::writeSummaryCsv(os, model); });
     }
-    if (!o.plot.empty()) {
-      const fs::path data = io::temporarySibling(fs::path(o.plot).replace_extension(".json"));
-      io::writeFileAtomically(data, io::soilPlotData(model).dump());
-      const auto png = outputs.reserve(o.plot);
-      try {
-        io::runPlotScript("plot_soil.py", data, png);
-      } catch (...) {
-        fs::remove(data);
-        throw;
-      }
-      fs::remove(data);
-    }
+    if (!o.plot.empty()) io::stagePlot(outputs, "plot_soil.py", io::soilPlotData(model).dump(), o.plot);
     outputs.commit();
   } catch (...) {
     outputs.discard();

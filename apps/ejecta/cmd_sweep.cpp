@@ -116,18 +116,7 @@ int runSweep(const SweepOptions& o) {
   io::OutputTransaction outputs;
   outputs.stage(out / "sweep.csv", [&](std::ostream& os) { os << csv; });
   outputs.stage(out / "sweep.json", [&](std::ostream& os) { os << doc.dump(2) << '\n'; });
-  if (o.plot) {
-    const fs::path data = io::temporarySibling(out / "sweep_plot.json");
-    io::writeFileAtomically(data, doc.dump());
-    const auto png = outputs.reserve(out / "sweep.png");
-    try {
-      io::runPlotScript("plot_sweep.py", data, png);
-    } catch (...) {
-      fs::remove(data);
-      throw;
-    }
-    fs::remove(data);
-  }
+  if (o.plot) io::stagePlot(outputs, "plot_sweep.py", doc.dump(), out / "sweep.png");
   outputs.commit();
   std::cout << fmt::format("wrote {}/sweep.csv, sweep.json{} and case_*/\n", o.out, o.plot ? ", sweep.png" : "");
   return 0;

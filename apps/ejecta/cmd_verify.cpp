@@ -110,18 +110,7 @@ int runVerify(const VerifyOptions& o) {
       for (std::size_t i = 0; i < pr.x.size(); ++i)
         os << fmt::format("{:.8e},{:.8e},{}\n", pr.x[i], pr.numeric[i], i < pr.exact.size() && std::isfinite(pr.exact[i]) ? fmt::format("{:.8e}", pr.exact[i]) : "");
     });
-  if (o.plot) {
-    const fs::path data = io::temporarySibling(out / "verify_plot.json");
-    io::writeFileAtomically(data, plotData(rep).dump());
-    const auto png = outputs.reserve(out / "verify.png");
-    try {
-      io::runPlotScript("plot_verify.py", data, png);
-    } catch (...) {
-      fs::remove(data);
-      throw;
-    }
-    fs::remove(data);
-  }
+  if (o.plot) io::stagePlot(outputs, "plot_verify.py", plotData(rep).dump(), out / "verify.png");
   outputs.commit();
   std::cout << fmt::format("wrote {}/verify.{{txt,csv,json{}}} and profiles/\n", o.out, o.plot ? ",png" : "");
   if (!rep.allPassed()) {

@@ -46,4 +46,18 @@ void runPlotScript(const std::string& script, const std::filesystem::path& data_
                                          script, rc));
 }
 
+void stagePlot(OutputTransaction& outputs, const std::string& script, const std::string& data_json,
+               const std::filesystem::path& png) {
+  const std::filesystem::path data = temporarySibling(std::filesystem::path(png).replace_extension(".json"));
+  writeFileAtomically(data, data_json);
+  const auto staged = outputs.reserve(png);
+  try {
+    runPlotScript(script, data, staged);
+  } catch (...) {
+    std::filesystem::remove(data);
+    throw;
+  }
+  std::filesystem::remove(data);
+}
+
 }  // namespace ejecta::io

@@ -1,5 +1,7 @@
 #pragma once
 #include <filesystem>
+
+#include "core/atomic_file.hpp"
 #include <string>
 #include <vector>
 
@@ -18,5 +20,10 @@ std::filesystem::path scriptsDir();
 // Runs scripts/<script> DATA.json OUT.png; throws std::runtime_error if it fails.
 void runPlotScript(const std::string& script, const std::filesystem::path& data_json,
                    const std::filesystem::path& out_png);
+
+// Makes `png` with scripts/<script> from `data_json` (JSON text, in a temporary file beside it,
+// removed afterwards) as one more output of the transaction.
+void stagePlot(OutputTransaction& outputs, const std::string& script, const std::string& data_json,
+               const std::filesystem::path& png);
 
 }  // namespace ejecta::io

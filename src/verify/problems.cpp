@@ -43,15 +43,16 @@ double drift(const hydro::Totals& a, const hydro::Totals& b, bool closed) {
   return worst;
 }
 
-void fillOrders(std::vector<Row>& rows, std::size_t first) {
+// Observed orders between consecutive rows of one problem from `first` on; NaN for the coarsest.
+void fillOrders(std::vector<Row>& rows, std::size_t first, const std::string& problem) {
+  const Row* prev = nullptr;
   for (std::size_t r = first; r < rows.size(); ++r) {
-    if (r == first) {
-      rows[r].order = kNaN;
-      continue;
-    }
-    const auto& a = rows[r - 1];
-    const auto& b = rows[r];
-    rows[r].order = (a.error > 0.0 && b.error > 0.0) ? std::log(a.error / b.error) / std::log(static_cast<double>(b.resolution) / a.resolution) : kNaN;
+    if (rows[r].problem != problem) continue;
+    const Row& cur = rows[r];
+    rows[r].order = (prev && prev->error > 0.0 && cur.error > 0.0)
+                        ? std::log(prev->error / cur.error) / std::log(static_cast<double>(cur.resolution) / prev->resolution)
+                        : kNaN;
+    prev = &rows[r];
   }
 }
 
@@ -104,12 +105,8 @@ void sod(int axis, const std::vector<int>& levels, Report& rep) {
     rep.rows.push_back({std::string(names[axis]) + "-shock", dims == 3 ? "3D" : "2D plane", "L1(density), 0.75 < x < 0.95", n,
                         s.grid().interiorCells(), l1_shock, 0.0, kNaN, 0.0, "", true});
   }
-  std::vector<Row> all_rows, shock_rows;
-  for (std::size_t r = first; r < rep.rows.size(); ++r) (r % 2 == first % 2 ? all_rows : shock_rows).push_back(rep.rows[r]);
-  fillOrders(all_rows, 0);
-  fillOrders(shock_rows, 0);
-  for (std::size_t r = first, a = 0, b = 0; r < rep.rows.size(); ++r)
-    rep.rows[r].order = (r % 2 == first % 2) ? all_rows[a++].order : shock_rows[b++].order;
+  fillOrders(rep.rows, first, names[axis]);
+  fillOrders(rep.rows, first, std::string(names[axis]) + "-shock");
   auto& whole = rep.rows[rep.rows.size() - 2];
   whole.check = "order >= 0.8 (includes the contact)";
   whole.passed = whole.order >= 0.8;
@@ -174,7 +171,7 @@ void smoothAdvection(int dims, const std::vector<int>& levels, Report& rep) {
     rep.rows.push_back({name, dims == 1 ? "1D" : "2D plane", "L1(density)", n, g.interiorCells(), l1, 0.0, drift(before, after, true),
                         seconds(t0), "", true, s.stats().steps});
   }
-  fillOrders(rep.rows, first);
+  fillOrders(rep.rows, first, name);
   auto& last = rep.rows.back();
   last.check = "order >= 1.8 (smooth flow)";
   last.passed = last.order >= 1.8;
@@ -274,7 +271,7 @@ void sedov(const std::string& variant, const std::vector<int>& levels, Report& r
                         "|R_shock - R_exact| / R_exact", n, g.interiorCells(), std::abs(R - r_exact) / r_exact, 0.0,
                         drift(before, after, closed), seconds(t0), "", true, s.stats().steps});
   }
-  fillOrders(rep.rows, first);
+  fillOrders(rep.rows, first, name);
   auto& last = rep.rows.back();
   // 1% needs about 100 cells per radius; the 3D quick level stops at 48 (full: 96).
   const double tol = (variant == "3d" && last.resolution < 96) ? 0.025 : 0.01;
@@ -326,14 +323,10 @@ void noh(const std::vector<int>& levels, Report& rep) {
                         drift(before, after, false), seconds(t0), "", true, s.stats().steps});
     rep.rows.push_back({"noh-L1", "2D plane", "L1(density), r < 0.5", n, g.interiorCells(), l1 / area, kNaN, kNaN, 0.0, "", true});
   }
-  std::vector<Row> r_rows, l_rows;
-  for (std::size_t r = first; r < rep.rows.size(); ++r) (rep.rows[r].problem == "noh" ? r_rows : l_rows).push_back(rep.rows[r]);
-  fillOrders(r_rows, 0);
-  fillOrders(l_rows, 0);
-  std::size_t qa = 0, qb = 0;
-  for (std::size_t r = first; r < rep.rows.size(); ++r) rep.rows[r].order = rep.rows[r].problem == "noh" ? r_rows[qa++].order : l_rows[qb++].order;
+  fillOrders(rep.rows, first, "noh");
+  fillOrders(rep.rows, first, "noh-L1");
   // Informative: on a Cartesian grid the reflecting axes carry the known Noh anomalies (noise and
-  // jetting along the axes) that stall convergence at these resolutions; see docs/verification.md.
+  // jetting along the axes) that stall convergence at these resolutions; see docs/solver.md.
 }
 
 // A heavy disc carried diagonally through a periodic box by a uniform flow, then back: material
@@ -387,14 +380,7 @@ void interfaceAdvection(const std::vector<int>& levels, Report& rep) {
     rep.rows.push_back({"interface-volume", "2D plane", "relative change of the disc's volume", n, g.interiorCells(),
                         std::abs(vol1 - vol0) / vol0, kNaN, mass_drift, 0.0, "<= 1e-3", std::abs(vol1 - vol0) / vol0 <= 1e-3});
   }
-  // orders on the shape rows only
-  std::vector<Row> shape_rows;
-  for (std::size_t r = first; r < rep.rows.size(); ++r)
-    if (rep.rows[r].problem == "interface") shape_rows.push_back(rep.rows[r]);
-  fillOrders(shape_rows, 0);
-  std::size_t q = 0;
-  for (std::size_t r = first; r < rep.rows.size(); ++r)
-    if (rep.rows[r].problem == "interface") rep.rows[r].order = shape_rows[q++].order;
+  fillOrders(rep.rows, first, "interface");   // orders on the shape rows only
   auto& last = rep.rows[rep.rows.size() - 3];
   last.check = "shape error <= 6% (sharp interface)";
   last.passed = last.error <= 0.06;
@@ -439,13 +425,7 @@ void jwlDetonation(const std::string& explosive, const std::vector<int>& levels,
     rep.rows.push_back({name + "-peak", "1D", "|p_peak - p_CJ(handbook)| / p_CJ", n, g.interiorCells(),
                         std::abs(peak - mat.jwl.p_cj) / mat.jwl.p_cj, kNaN, drift(before, after, false), 0.0, "", true});
   }
-  std::vector<Row> l1_rows;
-  for (std::size_t r = first; r < rep.rows.size(); ++r)
-    if (rep.rows[r].problem == name) l1_rows.push_back(rep.rows[r]);
-  fillOrders(l1_rows, 0);
-  std::size_t q = 0;
-  for (std::size_t r = first; r < rep.rows.size(); ++r)
-    if (rep.rows[r].problem == name) rep.rows[r].order = l1_rows[q++].order;
+  fillOrders(rep.rows, first, name);
   auto& last = rep.rows.back();
   last.check = "peak within 2% of the handbook CJ pressure";
   last.passed = last.error <= 0.02;
@@ -510,7 +490,7 @@ void sandPiston(const std::vector<int>& levels, Report& rep) {
     rep.rows.push_back({"sand-piston", "1D", "|U_shock - U_RH| / U_RH", n, s.grid().interiorCells(), std::abs(us - rh.shock_speed) / rh.shock_speed,
                         0.0, kNaN, seconds(t0), "", true, s.stats().steps});
   }
-  fillOrders(rep.rows, first);
+  fillOrders(rep.rows, first, "sand-piston");
   auto& last = rep.rows.back();
   last.check = "shock speed within 2%";
   last.passed = last.error <= 0.02;
@@ -554,13 +534,7 @@ void steelPrecursor(const std::vector<int>& levels, Report& rep) {
     rep.rows.push_back({"steel-precursor-speed", "1D", "|c_precursor - c_L| / c_L", n, s.grid().interiorCells(), std::abs(speed - ep.speed) / ep.speed,
                         kNaN, kNaN, 0.0, "", true});
   }
-  std::vector<Row> hel_rows;
-  for (std::size_t r = first; r < rep.rows.size(); ++r)
-    if (rep.rows[r].problem == "steel-precursor") hel_rows.push_back(rep.rows[r]);
-  fillOrders(hel_rows, 0);
-  std::size_t q = 0;
-  for (std::size_t r = first; r < rep.rows.size(); ++r)
-    if (rep.rows[r].problem == "steel-precursor") rep.rows[r].order = hel_rows[q++].order;
+  fillOrders(rep.rows, first, "steel-precursor");
   for (std::size_t r = rep.rows.size() - 2; r < rep.rows.size(); ++r) {
     rep.rows[r].check = "within 3%";
     rep.rows[r].passed = rep.rows[r].error <= 0.03;
@@ -604,7 +578,7 @@ void tntFreeAir(const std::vector<int>& levels, Report& rep) {
     rep.rows.push_back({"tnt-free-air", "2D axisymmetric", "RMS relative error of peak overpressure (1-3 m)", n, g.interiorCells(), std::sqrt(rms),
                         0.0, kNaN, seconds(t0), "", true, s.stats().steps});
   }
-  fillOrders(rep.rows, first);
+  fillOrders(rep.rows, first, "tnt-free-air");
   Profile prof{"tnt-free-air", levels.back(), "distance [m] (1 kg TNT)", "peak overpressure [Pa]", gauges, peaks, {}};
   for (std::size_t q = 0; q < gauges.size(); ++q) {
     const double ref = kinneyGrahamOverpressure(gauges[q], p0);

@@ -1,14 +1,8 @@
 #!/usr/bin/env bash
 # `ejecta run` as a user runs it: the run folder's outputs, a checkpoint whose restart reproduces
 # the uninterrupted run bit for bit, and deck errors that name the key and leave nothing behind.
-set -uo pipefail
 ejecta=$1
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-fail=0
-pass=0
-check() { if eval "$2"; then pass=$((pass + 1)); else echo "FAIL: $1"; fail=$((fail + 1)); fi; }
+source "$(dirname "$0")/lib.sh"
 common=(emi-flat-7 --cell-size 25 --set end_time_s=0.0006 --set 'output.field_times_s=[0.0004]' --set 'output.profile_times_s=[0.0002,0.0005]' --quiet)
 
 "$ejecta" run "${common[@]}" --checkpoint-at 0.0003 --out a > a.txt 2> a.err
@@ -50,5 +44,4 @@ check "sweep.csv has both cases" "[[ \$(wc -l < s/sweep.csv) -eq 3 ]] && [[ -s s
 err=$("$ejecta" sweep emi-flat-7 --vary target.nonsense=1,2 --out t 2>&1 >/dev/null)
 check "sweep: bad key exits 2 naming it, nothing written" "[[ $? -eq 2 ]] && grep -q target.nonsense <<< \"\$err\" && [[ ! -e t ]]"
 
-echo "$pass passed, $fail failed"
-[[ $fail -eq 0 ]]
+finish

@@ -1,14 +1,8 @@
 #!/usr/bin/env bash
 # `ejecta soil` as a user runs it: outputs written, bad input refused with a one-line error that
 # names the input, exit code 2, and no file written or left behind.
-set -uo pipefail
 ejecta=$1
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-fail=0
-pass=0
-check() { if eval "$2"; then pass=$((pass + 1)); else echo "FAIL: $1"; fail=$((fail + 1)); fi; }
+source "$(dirname "$0")/lib.sh"
 
 "$ejecta" soil --dry-density 1280 --moisture 7% --lsdyna x.k --plot x.png --json > j.json
 check "good run exits 0" "[[ $? -eq 0 ]]"
@@ -51,5 +45,4 @@ check "failed plot: nothing left behind" "[[ -z \$(ls -A out) ]]"
 
 "$ejecta" --help > /dev/null
 check "help exits 0" "[[ $? -eq 0 ]]"
-echo "$pass passed, $fail failed"
-[[ $fail -eq 0 ]]
+finish

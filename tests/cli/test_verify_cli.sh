@@ -1,14 +1,8 @@
 #!/usr/bin/env bash
 # `ejecta verify` as a user runs it: a small subset writes its table, CSV, JSON and plot; bad
 # options are refused with exit code 2 and leave nothing behind.
-set -uo pipefail
 ejecta=$1
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-fail=0
-pass=0
-check() { if eval "$2"; then pass=$((pass + 1)); else echo "FAIL: $1"; fail=$((fail + 1)); fi; }
+source "$(dirname "$0")/lib.sh"
 
 "$ejecta" verify --only sand-piston steel-precursor --out v > out.txt 2> err.txt
 rc=$?
@@ -29,5 +23,4 @@ check "unknown flag: exit 2" "[[ $? -eq 2 ]]"
 err=$("$ejecta" verify --threads -1 --out w 2>&1 >/dev/null)
 check "negative threads: exit 2" "[[ $? -eq 2 ]] && grep -q threads <<< \"\$err\""
 
-echo "$pass passed, $fail failed"
-[[ $fail -eq 0 ]]
+finish
