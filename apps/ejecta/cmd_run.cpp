@@ -10,9 +10,6 @@
 #include "ejecta/build_info.hpp"
 #include "scenario/run.hpp"
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 namespace ejecta::cli {
 namespace {
@@ -31,13 +28,10 @@ struct RunCliOptions {
 };
 
 int runRun(const RunCliOptions& o) {
-  if (o.threads < 0) throw InputError("threads", fmt::format("{} is out of range; valid >= 0 (0: all cores)", o.threads));
-#ifdef _OPENMP
-  if (o.threads > 0) omp_set_num_threads(o.threads);
-#endif
+  applyThreads(o.threads);
   const std::string path = resolveDeck(o.deck);
   std::vector<std::string> overrides = o.sets;
-  if (!o.cell_size_mm.empty()) overrides.push_back("mesh.cell_size_m=" + fmt::format("{:g}", parseNumber("cell-size", o.cell_size_mm) / 1000.0));
+  if (!o.cell_size_mm.empty()) overrides.push_back(cellSizeOverride(o.cell_size_mm));
   const auto deck = scenario::loadDeck(path, overrides);
   scenario::RunOptions ro;
   ro.out_dir = o.out.empty() ? (fs::path("out/run") / fs::path(path).stem()).string() : o.out;

@@ -14,9 +14,6 @@
 #include "io/subprocess.hpp"
 #include "scenario/run.hpp"
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 namespace ejecta::cli {
 namespace {
@@ -54,16 +51,13 @@ Axis parseVary(const std::string& v) {
 }
 
 int runSweep(const SweepOptions& o) {
-  if (o.threads < 0) throw InputError("threads", fmt::format("{} is out of range; valid >= 0", o.threads));
-#ifdef _OPENMP
-  if (o.threads > 0) omp_set_num_threads(o.threads);
-#endif
+  applyThreads(o.threads);
   if (o.vary.empty()) throw InputError("--vary", "at least one KEY=V1,V2,... is needed");
   std::vector<Axis> axes;
   for (const auto& v : o.vary) axes.push_back(parseVary(v));
   const std::string path = resolveDeck(o.deck);
   std::vector<std::string> base = o.sets;
-  if (!o.cell_size_mm.empty()) base.push_back("mesh.cell_size_m=" + fmt::format("{:g}", parseNumber("cell-size", o.cell_size_mm) / 1000.0));
+  if (!o.cell_size_mm.empty()) base.push_back(cellSizeOverride(o.cell_size_mm));
   // every combination, validated before the first run
   std::vector<std::vector<std::size_t>> combos{{}};
   for (const auto& a : axes) {

@@ -14,9 +14,6 @@
 #include "io/subprocess.hpp"
 #include "verify/problems.hpp"
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 namespace ejecta::cli {
 namespace {
@@ -85,10 +82,7 @@ nlohmann::json plotData(const verify::Report& rep) {
 }
 
 int runVerify(const VerifyOptions& o) {
-  if (o.threads < 0) throw InputError("threads", fmt::format("{} is out of range; valid >= 0 (0: all cores)", o.threads));
-#ifdef _OPENMP
-  if (o.threads > 0) omp_set_num_threads(o.threads);
-#endif
+  applyThreads(o.threads);
   const fs::path out(o.out);
   if (fs::exists(out) && !fs::is_directory(out)) throw InputError("out", fmt::format("'{}' exists and is not a directory", o.out));
   verify::Options vo;

@@ -12,6 +12,11 @@ Action addRunCommand(CLI::App& app);
 Action addSweepCommand(CLI::App& app);
 
 // Parses a number given on the command line; `percent_ok` accepts "7%" as 0.07.
+// Sets the OpenMP thread count (0: all cores); throws InputError for a negative count.
+void applyThreads(int threads);
+// `--cell-size MM` as a deck override of mesh.cell_size_m.
+std::string cellSizeOverride(const std::string& millimetres);
+
 // A deck file, or the name of a built-in deck (decks/NAME.toml); empty: the default EMI 7% deck.
 std::string resolveDeck(const std::string& name);
 

@@ -8,6 +8,10 @@
 #include "core/error.hpp"
 #include "ejecta/build_info.hpp"
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 namespace ejecta::cli {
 
 double parseNumber(const std::string& field, const std::string& text, bool percent_ok) {
@@ -34,6 +38,17 @@ std::string resolveDeck(const std::string& name) {
   const fs::path builtin = fs::path(build_info::decks_dir) / (name.ends_with(".toml") ? name : name + ".toml");
   if (fs::exists(builtin)) return builtin.string();
   throw InputError("deck", fmt::format("'{}' is neither a file nor a built-in deck (see {})", name, build_info::decks_dir));
+}
+
+void applyThreads(int threads) {
+  if (threads < 0) throw InputError("threads", fmt::format("{} is out of range; valid >= 0 (0: all cores)", threads));
+#ifdef _OPENMP
+  if (threads > 0) omp_set_num_threads(threads);
+#endif
+}
+
+std::string cellSizeOverride(const std::string& millimetres) {
+  return "mesh.cell_size_m=" + fmt::format("{:g}", parseNumber("cell-size", millimetres) / 1000.0);
 }
 
 }  // namespace ejecta::cli
