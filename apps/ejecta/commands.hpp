@@ -10,6 +10,7 @@ Action addSoilCommand(CLI::App& app);
 Action addVerifyCommand(CLI::App& app);
 Action addRunCommand(CLI::App& app);
 Action addSweepCommand(CLI::App& app);
+Action addValidateCommand(CLI::App& app);
 
 // Parses a number given on the command line; `percent_ok` accepts "7%" as 0.07.
 // Sets the OpenMP thread count (0: all cores); throws InputError for a negative count.

@@ -12,7 +12,8 @@ int main(int argc, char** argv) {
   CLI::App app{"ejecta: predicts how a buried charge in sand loads a vehicle underbody. SI units throughout."};
   app.set_version_flag("--version", std::string("ejecta ") + ejecta::build_info::version);
   app.require_subcommand(1);
-  std::vector<ejecta::cli::Action> actions{ejecta::cli::addSoilCommand(app), ejecta::cli::addVerifyCommand(app), ejecta::cli::addRunCommand(app), ejecta::cli::addSweepCommand(app)};
+  std::vector<ejecta::cli::Action> actions{ejecta::cli::addSoilCommand(app), ejecta::cli::addVerifyCommand(app), ejecta::cli::addRunCommand(app), ejecta::cli::addSweepCommand(app),
+                                           ejecta::cli::addValidateCommand(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

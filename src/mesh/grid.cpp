@@ -25,14 +25,28 @@ Axis Axis::uniform(double lo, double hi, int cells) {
   return Axis(std::move(f));
 }
 
-Axis Axis::graded(double lo, double hi, double core_lo, double core_hi, double dx, double ratio) {
+Axis Axis::graded(double lo, double hi, double core_lo, double core_hi, double dx, double ratio, std::optional<double> anchor) {
   if (!(dx > 0.0)) throw InputError("mesh.cell_size", "must be > 0 m");
   if (!(ratio >= 1.0 && ratio <= 1.5)) throw InputError("mesh.grading", fmt::format("{:g} is out of range; valid [1, 1.5]", ratio));
   if (!(lo <= core_lo && core_lo < core_hi && core_hi <= hi))
     throw InputError("mesh", "the uniform core must lie inside the domain");
-  const int n_core = std::max(1, static_cast<int>(std::lround((core_hi - core_lo) / dx)));
   std::vector<double> f;
-  for (int c = 0; c <= n_core; ++c) f.push_back(core_lo + (core_hi - core_lo) * c / n_core);
+  if (anchor && *anchor > core_lo && *anchor < core_hi) {
+    const double a = *anchor;
+    auto count = [dx](double span, double room) {   // whole cells over `span`, none past `room`
+      int n = static_cast<int>(std::lround(span / dx));
+      while (n > 0 && n * dx > room * (1.0 + 1e-12)) --n;
+      return n;
+    };
+    const int below = count(a - core_lo, a - lo), above = count(core_hi - a, hi - a);
+    if (below + above < 1) throw InputError("mesh.cell_size", fmt::format("{:g} m is larger than the uniform core", dx));
+    for (int c = -below; c <= above; ++c) f.push_back(c == 0 ? a : a + c * dx);
+    core_lo = a - below * dx;
+    core_hi = a + above * dx;
+  } else {
+    const int n_core = std::max(1, static_cast<int>(std::lround((core_hi - core_lo) / dx)));
+    for (int c = 0; c <= n_core; ++c) f.push_back(core_lo + (core_hi - core_lo) * c / n_core);
+  }
   // Grow outward; a last cell under half its predecessor is merged into it.
   auto grow = [&](double from, double to, double sign) {
     std::vector<double> out;

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstddef>
 #include <string>
+#include <optional>
 #include <vector>
 
 namespace ejecta::mesh {
@@ -31,7 +32,9 @@ class Axis {
   static Axis uniform(double lo, double hi, int cells);
   // A uniform core [core_lo, core_hi] of cell size `dx`, grown by `ratio` per cell outward until
   // the cells reach [lo, hi] (the last cell is stretched or shrunk to land on the end exactly).
-  static Axis graded(double lo, double hi, double core_lo, double core_hi, double dx, double ratio);
+  // With an `anchor` inside the core, the core's faces are anchor + k dx exactly (its ends move by
+  // under half a cell), so that a plane of the problem (the soil surface) is a face at any dx.
+  static Axis graded(double lo, double hi, double core_lo, double core_hi, double dx, double ratio, std::optional<double> anchor = {});
 
   int cells() const { return static_cast<int>(faces_.size()) - 1; }
   const std::vector<double>& faces() const { return faces_; }

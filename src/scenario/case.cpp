@@ -48,7 +48,8 @@ Case buildCase(const Deck& deck) {
   const auto& m = deck.mesh;
   const double h = m.cell_size_m;
   const mesh::Axis r_axis = mesh::Axis::graded(0.0, m.domain_radius_m, 0.0, m.core_radius_m, h, m.grading);
-  const mesh::Axis z_axis = mesh::Axis::graded(m.domain_bottom_m, m.domain_top_m, m.core_bottom_m, m.core_top_m, h, m.grading);
+  // the soil surface (z = 0), where a plate at zero standoff rests, is a face at every cell size
+  const mesh::Axis z_axis = mesh::Axis::graded(m.domain_bottom_m, m.domain_top_m, m.core_bottom_m, m.core_top_m, h, m.grading, 0.0);
   Case cs;
   cs.charge = chargeGeometry(deck.charge);
   if (cs.charge.radius_m > m.core_radius_m || cs.charge.z_bottom_m < m.core_bottom_m)

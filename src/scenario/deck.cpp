@@ -121,9 +121,21 @@ void applyOverride(toml::table& root, const std::string& ov) {
       t->insert_or_assign(part, toml::table{});
       next = t->get(part);
     }
+    start = dot + 1;
+    // an array of tables ([[soil]]) takes an index: soil.0.moisture
+    if (auto* arr = next->as_array()) {
+      const auto dot2 = path.find('.', start);
+      const std::string index = path.substr(start, dot2 == std::string::npos ? std::string::npos : dot2 - start);
+      const bool digits = !index.empty() && index.find_first_not_of("0123456789") == std::string::npos;
+      if (!digits || dot2 == std::string::npos) throw InputError(path, fmt::format("'{}' is a list: name an entry, {}.0.KEY", part, part));
+      const auto n = std::stoul(index);
+      if (n >= arr->size() || !arr->get(n)->as_table())
+        throw InputError(path, fmt::format("'{}' has {} entries; valid indices 0 to {}", part, arr->size(), arr->size() - 1));
+      next = arr->get(n);
+      start = dot2 + 1;
+    }
     if (!next->as_table()) throw InputError(path, "is not inside a table");
     t = next->as_table();
-    start = dot + 1;
   }
 }
 
@@ -278,6 +290,7 @@ Deck parseDeck(const std::string& text, const std::vector<std::string>& override
     r.num("history_interval_s", o.history_interval_s);
     r.numList("profile_times_s", o.profile_times_s);
     r.numList("field_times_s", o.field_times_s);
+    r.num("surface_soil_fraction", o.surface_soil_fraction);
     if (const auto* n = root.get("output") ? root.get("output")->as_table() : nullptr) {
       r.mark("gauges_m");
       if (const auto* g = n->get("gauges_m")) {
@@ -293,6 +306,7 @@ Deck parseDeck(const std::string& text, const std::vector<std::string>& override
     }
     r.finish();
     range("output.history_interval_s", o.history_interval_s, 1e-8, 1.0, "s");
+    range("output.surface_soil_fraction", o.surface_soil_fraction, 0.01, 1.0, "-");
     for (const auto& g : o.gauges_m) {
       if (g[0] < 0.0 || g[0] > d.mesh.domain_radius_m || g[1] < d.mesh.domain_bottom_m || g[1] > d.mesh.domain_top_m)
         throw InputError("output.gauges_m", fmt::format("gauge ({:g}, {:g}) m is outside the domain", g[0], g[1]));

@@ -63,6 +63,10 @@ struct OutputSpec {
   std::vector<double> profile_times_s{0.5e-3, 1e-3, 2e-3, 4e-3};
   std::vector<double> field_times_s{1e-3, 5e-3};
   std::vector<std::vector<double>> gauges_m;   // [r, z] points
+  // A column's soil surface is the top of its highest cell holding at least this volume fraction
+  // of soil. 0.5 tracks the bulk surface; a film of a soil bubble sees the envelope of the cloud,
+  // closer to a small fraction (the DRES decks use 0.1).
+  double surface_soil_fraction = 0.5;
 };
 
 struct Deck {

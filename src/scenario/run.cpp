@@ -91,8 +91,8 @@ void getState(std::istream& is, DriverState& s) {
 }
 
 // Height of the soil surface in each column along the first horizontal axis (r; x at y = 0 in 3D):
-// the top of the highest cell that is mostly soil.
-std::vector<double> surfaceProfile(const Case& cs) {
+// the top of the highest cell holding at least `threshold` of soil by volume.
+std::vector<double> surfaceProfile(const Case& cs, double threshold) {
   const auto& s = *cs.solver;
   const auto& g = s.grid();
   const int up = cs.vertical;
@@ -104,7 +104,7 @@ std::vector<double> surfaceProfile(const Case& cs) {
       double soil = 0.0;
       for (int k = 0; k < s.materialCount(); ++k)
         if (cs.material_kind[static_cast<std::size_t>(k)] == "soil") soil += s.field(k).alpha[c];
-      if (soil >= 0.5) {
+      if (soil >= threshold) {
         z[static_cast<std::size_t>(i)] = g.face(up, j + 1);
         break;
       }
@@ -164,9 +164,12 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
 
   auto record = [&]() {
     const double force = s.lastDt() > 0.0 ? cs.symmetry * s.lastBodyImpulse()[up] / s.lastDt() - st.static_force : 0.0;
-    const auto prof = surfaceProfile(cs);
+    const auto prof = surfaceProfile(cs, deck.output.surface_soil_fraction);
+    double top = std::nan("");   // the highest soil anywhere: the top of the bubble or the ejecta cloud
+    for (const double z : prof)
+      if (std::isfinite(z) && !(top >= z)) top = z;
     st.history.push_back({s.time(), st.impulse, force, st.plate_v, st.plate_z - cs.plate.z_bottom_m, st.impulse_kind[0], st.impulse_kind[1],
-                          st.impulse_kind[2], prof.empty() ? 0.0 : prof[0], s.lastDt()});
+                          st.impulse_kind[2], prof.empty() ? 0.0 : prof[0], top, s.lastDt()});
     std::vector<double> gr{s.time()};
     for (const auto c : gauge_cells) gr.push_back(s.pressure(c));
     st.gauges.push_back(gr);
@@ -218,7 +221,7 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
     }
     if (st.next_profile < deck.output.profile_times_s.size() && t >= deck.output.profile_times_s[st.next_profile] * (1.0 - 1e-12)) {
       st.profile_times.push_back(t);
-      st.profiles.push_back(surfaceProfile(cs));
+      st.profiles.push_back(surfaceProfile(cs, deck.output.surface_soil_fraction));
       ++st.next_profile;
     }
     if (st.next_field < deck.output.field_times_s.size() && t >= deck.output.field_times_s[st.next_field] * (1.0 - 1e-12)) {
@@ -257,9 +260,15 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
   res.wall_s = wall;
 
   // ---- the run folder
+  res.history_columns = {"t_s", "impulse_Ns", "force_N", "plate_velocity_m_s", "plate_displacement_m", "impulse_air_Ns", "impulse_products_Ns",
+                         "impulse_soil_Ns", "bubble_height_on_axis_m", "soil_top_m", "dt_s"};
+  res.history = st.history;
+  for (int i = 0; i < g.cells(0); ++i) res.profile_r_m.push_back(g.centre(0, i));
+  res.profile_times_s = st.profile_times;
+  res.profiles_m = st.profiles;
   io::writeFileAtomically(out / "history.csv", [&](std::ostream& os) {
-    os << "t_s,impulse_Ns,force_N,plate_velocity_m_s,plate_displacement_m,impulse_air_Ns,impulse_products_Ns,impulse_soil_Ns,"
-          "bubble_height_on_axis_m,dt_s\n";
+    for (std::size_t i = 0; i < res.history_columns.size(); ++i) os << (i ? "," : "") << res.history_columns[i];
+    os << "\n";
     for (const auto& r : st.history) os << csvRow(r);
   });
   io::writeFileAtomically(out / "gauges.csv", [&](std::ostream& os) {

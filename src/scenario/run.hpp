@@ -5,6 +5,7 @@
 // request a checkpoint that a restart continues bit for bit.
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "scenario/deck.hpp"
 
@@ -28,6 +29,11 @@ struct RunResult {
   long long steps = 0;
   std::size_t cells = 0;
   double wall_s = 0.0;
+  // What history.csv and surface_profiles.csv hold, for callers that study many runs.
+  std::vector<std::string> history_columns;
+  std::vector<std::vector<double>> history;
+  std::vector<double> profile_r_m, profile_times_s;
+  std::vector<std::vector<double>> profiles_m;   // per profile time, per r column; NaN: no soil
 };
 
 RunResult runCase(const Deck& deck, const RunOptions& opt);

@@ -2,6 +2,8 @@
 // Riemann problem, conservation, geometric source balance, and the run guards.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 
 #include "core/error.hpp"
@@ -32,6 +34,20 @@ TEST(Grid, GradedAxisHasUniformCoreAndBoundedGrowth) {
     if (f[i] >= 0.0 && f[i + 1] <= 0.5 + 1e-12) {
       EXPECT_NEAR(w1, 0.01, 1e-12);
     }
+  }
+}
+
+TEST(Grid, AnchoredCoreHasAFaceAtTheAnchorForAnyCellSize) {
+  for (const double dx : {0.004, 0.006, 0.007, 0.01}) {
+    const Axis a = Axis::graded(-0.85, 0.8, -0.25, 0.15, dx, 1.05, 0.0);
+    const auto& f = a.faces();
+    EXPECT_DOUBLE_EQ(a.lo(), -0.85);
+    EXPECT_DOUBLE_EQ(a.hi(), 0.8);
+    EXPECT_NE(std::find(f.begin(), f.end(), 0.0), f.end()) << dx;
+    // the core keeps its cell size exactly and reaches its ends within half a cell
+    const auto z0 = static_cast<std::size_t>(std::find(f.begin(), f.end(), 0.0) - f.begin());
+    EXPECT_NEAR(f[z0 + 1] - f[z0], dx, 1e-15);
+    EXPECT_NEAR(f[z0] - f[z0 - 1], dx, 1e-15);
   }
 }
 

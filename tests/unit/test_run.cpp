@@ -102,6 +102,12 @@ moisture = 0.07
   EXPECT_EQ(field("[[soil]]\nwet_density_kg_m3 = 1370.0\nmoisture = 1.5\n"), "soil[0].moisture");
   EXPECT_EQ(field("x = [\n"), "deck");   // syntax error
   EXPECT_EQ(field(base, {"charge.shape=box"}), "charge.shape");   // a box needs 3D
+  // an entry of a list of tables is named by its index
+  EXPECT_DOUBLE_EQ(scenario::parseDeck(base, {"soil.0.moisture=0.1"}).soil.at(0).moisture, 0.1);
+  EXPECT_EQ(scenario::parseDeck(base, {"soil.0.water_eos=alt"}).soil.at(0).water_eos, "alt");
+  EXPECT_EQ(field(base, {"soil.1.moisture=0.1"}), "soil.1.moisture");
+  EXPECT_EQ(field(base, {"soil.x.moisture=0.1"}), "soil.x.moisture");
+  EXPECT_EQ(field(base, {"soil.0.moisture=1.5"}), "soil[0].moisture");
 }
 
 TEST(Case, VPlateInThreeDimensionsSitsOnItsWingsAndTakesLoad) {

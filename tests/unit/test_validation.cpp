@@ -1,0 +1,147 @@
+// `ejecta validate`'s plan and analyses (every planned case's deck loads with its overrides; the
+// studies' numbers from given results) and the report renderers (base64, HTML escaping, tables).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <set>
+
+#include "core/error.hpp"
+#include "ejecta/build_info.hpp"
+#include "io/report.hpp"
+#include "scenario/deck.hpp"
+#include "scenario/validation.hpp"
+
+namespace ejecta {
+namespace {
+using nlohmann::json;
+using scenario::ValidationLevel;
+
+TEST(ValidationPlan, FullLevelRunsThePublishedResolutionsAndEveryDeckLoads) {
+  const auto plan = scenario::validationPlan(ValidationLevel::Full);
+  std::set<std::string> ids;
+  std::set<double> mesh;
+  for (const auto& c : plan.cases) {
+    EXPECT_TRUE(ids.insert(c.id).second) << c.id << " planned twice";
+    if (c.deck == "mesh-study") mesh.insert(c.cell_mm);
+    else if (c.deck.starts_with("dres")) EXPECT_DOUBLE_EQ(c.cell_mm, 3.0);
+    else EXPECT_DOUBLE_EQ(c.cell_mm, 5.0) << c.id;
+    // the overrides name real keys (soil.0.plateau_scale, ...) and the cell size lands in the deck
+    const auto deck = scenario::loadDeck((std::filesystem::path(build_info::decks_dir) / (c.deck + ".toml")).string(), c.sets);
+    EXPECT_DOUBLE_EQ(deck.mesh.cell_size_m, c.cell_mm / 1000.0) << c.id;
+  }
+  EXPECT_EQ(mesh, (std::set<double>{4.0, 5.0, 6.0, 10.0}));
+  EXPECT_EQ(plan.studies.size(), scenario::validationStudies().size());
+}
+
+TEST(ValidationPlan, OnlyPicksStudiesAndTheirCasesAndRejectsUnknownNames) {
+  const auto plan = scenario::validationPlan(ValidationLevel::Quick, {"sensitivity"});
+  ASSERT_EQ(plan.studies, std::vector<std::string>{"sensitivity"});
+  EXPECT_EQ(plan.cases.size(), 6u);   // the EMI 7% baseline and five changed inputs
+  EXPECT_EQ(plan.cases.front().id, "emi-flat-7");
+  try {
+    scenario::validationPlan(ValidationLevel::Quick, {"mesh", "bogus"});
+    FAIL() << "an unknown study was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "only");
+  }
+}
+
+// A made-up result for a case: impulse I split 10/20/70% air/products/soil, a straight history.
+json outcome(const scenario::ValidationCase& c, double impulse) {
+  scenario::RunResult r;
+  r.impulse_Ns = impulse;
+  r.impulse_air_Ns = 0.1 * impulse;
+  r.impulse_products_Ns = 0.2 * impulse;
+  r.impulse_soil_Ns = 0.7 * impulse;
+  r.peak_force_N = 1e6;
+  r.cells = 100;
+  r.steps = 10;
+  r.history_columns = {"t_s", "impulse_Ns", "soil_top_m", "bubble_height_on_axis_m"};
+  for (int i = 0; i <= 1000; ++i) r.history.push_back({1e-5 * i, impulse * i / 1000.0, 1e-4 * i, 5e-5 * i});
+  r.profile_r_m = {0.0, 0.1};
+  r.profile_times_s = {1e-3};
+  r.profiles_m = {{0.05, std::nan("")}};
+  return scenario::condenseOutcome(c, r, 100);
+}
+
+TEST(ValidationReport, StudiesComputeSpreadTrendsAndChangesFromTheResults) {
+  const auto plan = scenario::validationPlan(ValidationLevel::Full);
+  std::map<std::string, json> out;
+  const std::map<std::string, double> given{{"mesh-10mm", 5400.0}, {"mesh-6mm", 4900.0}, {"mesh-5mm", 5000.0}, {"mesh-4mm", 5100.0},
+                                            {"emi-flat-7", 4000.0}, {"emi-flat-14", 4400.0}, {"emi-flat-22", 4200.0},
+                                            {"field-cover22-5cm", 5000.0}, {"field-cover7-5cm", 5250.0}, {"sens-standoff-5cm", 3800.0}};
+  for (const auto& c : plan.cases) out[c.id] = outcome(c, given.contains(c.id) ? given.at(c.id) : 5000.0);
+  const auto rep = scenario::validationReport(plan, out, json{{"ejecta_version", "test"}});
+  auto section = [&](const std::string& id) {
+    for (const auto& s : rep.at("sections"))
+      if (s.at("id") == id) return s;
+    return json();
+  };
+  // mesh: finest three 4900/5000/5100, mean 5000: spread 2% exactly, which passes
+  const auto mesh = section("mesh");
+  EXPECT_NEAR(mesh.at("checks")[0].at("value").get<double>(), 2.0, 1e-9);
+  EXPECT_TRUE(mesh.at("checks")[0].at("pass").get<bool>());
+  EXPECT_NEAR(mesh.at("plot").at("mean_Ns").get<double>(), 5000.0, 1e-9);
+  // moisture: 7% -> 22% rises by 5% although 14% -> 22% falls
+  const auto moist = section("moisture");
+  EXPECT_NEAR(moist.at("checks")[0].at("value").get<double>(), 5.0, 1e-9);
+  EXPECT_TRUE(moist.at("checks")[0].at("pass").get<bool>());
+  EXPECT_NE(moist.at("paragraphs")[0].get<std::string>().find("not rising at each step"), std::string::npos);
+  // field: +5% against the undisturbed 5 cm case is the largest change
+  EXPECT_NEAR(section("field").at("checks")[0].at("value").get<double>(), 5.0, 1e-9);
+  EXPECT_TRUE(section("field").at("checks")[0].at("pass").is_null());
+  // sensitivity: 5 cm of standoff costs 5%, -1% per cm
+  EXPECT_EQ(section("sensitivity").at("table").at("rows")[0][4], "-5.0%");
+  EXPECT_EQ(section("sensitivity").at("table").at("rows")[0][5], "-1.00 % per cm");
+  // histories thinned to at most ~100 rows, the last kept
+  const auto& h = out.at("mesh-5mm").at("history");
+  EXPECT_LE(h.at("t_s").size(), 102u);
+  EXPECT_DOUBLE_EQ(h.at("t_s").back().get<double>(), 1e-2);
+  EXPECT_TRUE(out.at("mesh-5mm").at("profiles").at("z_m")[0][1].is_null());
+  // the machine-readable table has every case, no reference values claimed
+  EXPECT_EQ(rep.at("cases").size(), plan.cases.size());
+  EXPECT_TRUE(rep.at("cases")[0].at("reference_Ns").is_null());
+}
+
+TEST(ValidationReport, AFallingMoistureTrendFailsItsCheck) {
+  const auto plan = scenario::validationPlan(ValidationLevel::Quick, {"moisture"});
+  std::map<std::string, json> out;
+  for (const auto& c : plan.cases) out[c.id] = outcome(c, c.id == "emi-flat-22" ? 3000.0 : 4000.0);
+  const auto rep = scenario::validationReport(plan, out, json::object());
+  EXPECT_FALSE(rep.at("checks")[0].at("pass").get<bool>());
+  // a case without a result is an error, not a silent gap
+  out.erase("emi-flat-14");
+  EXPECT_THROW(scenario::validationReport(plan, out, json::object()), RunError);
+}
+
+TEST(Report, Base64AndEscapingMatchTheirDefinitions) {
+  EXPECT_EQ(io::base64(""), "");
+  EXPECT_EQ(io::base64("M"), "TQ==");
+  EXPECT_EQ(io::base64("Ma"), "TWE=");
+  EXPECT_EQ(io::base64("Man"), "TWFu");
+  EXPECT_EQ(io::base64(std::string("\xff\x00\x10", 3)), "/wAQ");
+  EXPECT_EQ(io::escapeHtml("a<b & \"c\">"), "a&lt;b &amp; &quot;c&quot;&gt;");
+}
+
+TEST(Report, MarkdownAndHtmlCarryTheTablesAndTheInlinedFigure) {
+  const json rep{{"title", "T"},
+                 {"level", "quick"},
+                 {"run", {{"ejecta_version", "x"}}},
+                 {"units", "SI"},
+                 {"intro", {"hello"}},
+                 {"checks", {{{"name", "c1"}, {"value", 1.5}, {"unit", "%"}, {"limit", "<= 2%"}, {"pass", true}}}},
+                 {"sections", {{{"id", "mesh"}, {"title", "S <1>"}, {"paragraphs", {"p"}}, {"table", {{"columns", {"a", "b|c"}}, {"rows", {{"1", "2"}}}}},
+                                {"figure", "mesh.png"}, {"caption", "cap"}}}},
+                 {"cases_table", {{"columns", {"case"}}, {"rows", {{"x"}}}}}};
+  const auto md = io::renderReportMarkdown(rep);
+  EXPECT_NE(md.find("| a | b\\|c |"), std::string::npos);
+  EXPECT_NE(md.find("| c1 | 1.50% | <= 2% | pass |"), std::string::npos);
+  EXPECT_NE(md.find("![cap](mesh.png)"), std::string::npos);
+  const auto html = io::renderReportHtml(rep, {{"mesh.png", "Man"}});
+  EXPECT_NE(html.find("<h2>S &lt;1&gt;</h2>"), std::string::npos);
+  EXPECT_NE(html.find("data:image/png;base64,TWFu"), std::string::npos);
+  EXPECT_EQ(io::renderReportHtml(rep, {}).find("<img"), std::string::npos);   // no figure, no broken image
+}
+
+}  // namespace
+}  // namespace ejecta
