@@ -124,7 +124,7 @@ Action addVerifyCommand(CLI::App& app) {
   auto* quick = sub->add_flag("--quick", o->quick_flag, "Quick resolutions (the default; about 2-4 minutes on 2 cores)");
   sub->add_flag("--full", o->full, "Finer resolutions as well (tens of minutes)")->excludes(quick);
   sub->add_option("--out", o->out, "Output directory (default out/verify)");
-  sub->add_option("--only", o->only, "Run only these problem groups: sod advection sedov noh interface jwl sand-piston steel-precursor tnt-free-air")
+  sub->add_option("--only", o->only, "Run only these problem groups: sod advection sedov noh interface jwl products-isentrope sand-piston steel-precursor tnt-free-air")
       ->expected(1, -1);
   sub->add_option("--threads", o->threads, "OpenMP threads (default: all cores)");
   sub->add_flag("!--no-plot", o->plot, "Skip the PNG plot");

@@ -173,3 +173,21 @@ TEST(Verify, KinneyGrahamCurveIsMonotoneAndNearKnownValues) {
 }
 
 }  // namespace
+
+namespace ejecta {
+TEST(Exact, JwlIsentropeStartsAtCjAndObeysDeDvEqualsMinusP) {
+  const auto j = materials::explosive("CompB").jwl;
+  const auto cj = materials::chapmanJouguet(j);
+  const verify::JwlIsentrope s(j);
+  EXPECT_NEAR(s.energy(cj.relative_volume) / (j.e0 + 0.5 * cj.pressure * (1.0 - cj.relative_volume)), 1.0, 1e-12);
+  auto p = [&j](double V, double E) {
+    return j.a * (1.0 - j.omega / (j.r1 * V)) * std::exp(-j.r1 * V) + j.b * (1.0 - j.omega / (j.r2 * V)) * std::exp(-j.r2 * V) + j.omega * E / V;
+  };
+  for (const double V : {1.5, 3.0, 20.0}) {
+    const double d = 1e-3 * V;
+    const double slope = (s.energy(V + d) - s.energy(V - d)) / (2.0 * d);
+    EXPECT_NEAR(slope / -p(V, s.energy(V)), 1.0, 2e-3) << V;
+  }
+  EXPECT_LT(s.energy(30.0), s.energy(3.0));   // expansion does work
+}
+}  // namespace ejecta
