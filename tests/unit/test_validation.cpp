@@ -24,6 +24,7 @@ TEST(ValidationPlan, FullLevelRunsThePublishedResolutionsAndEveryDeckLoads) {
     EXPECT_TRUE(ids.insert(c.id).second) << c.id << " planned twice";
     if (c.deck == "mesh-study") mesh.insert(c.cell_mm);
     else if (c.deck.starts_with("dres")) EXPECT_DOUBLE_EQ(c.cell_mm, 3.0);
+    else if (c.id.starts_with("sens")) EXPECT_DOUBLE_EQ(c.cell_mm, 10.0) << c.id;   // changes only: 10 mm keeps --full under 2 h
     else EXPECT_DOUBLE_EQ(c.cell_mm, 5.0) << c.id;
     // the overrides name real keys (soil.0.plateau_scale, ...) and the cell size lands in the deck
     const auto deck = scenario::loadDeck((std::filesystem::path(build_info::decks_dir) / (c.deck + ".toml")).string(), c.sets);
@@ -69,7 +70,8 @@ TEST(ValidationReport, StudiesComputeSpreadTrendsAndChangesFromTheResults) {
   std::map<std::string, json> out;
   const std::map<std::string, double> given{{"mesh-10mm", 5400.0}, {"mesh-6mm", 4900.0}, {"mesh-5mm", 5000.0}, {"mesh-4mm", 5100.0},
                                             {"emi-flat-7", 4000.0}, {"emi-flat-14", 4400.0}, {"emi-flat-22", 4200.0},
-                                            {"field-cover22-5cm", 5000.0}, {"field-cover7-5cm", 5250.0}, {"sens-standoff-5cm", 3800.0}};
+                                            {"field-cover22-5cm", 5000.0}, {"field-cover7-5cm", 5250.0}, {"sens-baseline-10mm", 4000.0},
+                                            {"sens-standoff-5cm", 3800.0}};
   for (const auto& c : plan.cases) out[c.id] = outcome(c, given.contains(c.id) ? given.at(c.id) : 5000.0);
   const auto rep = scenario::validationReport(plan, out, json{{"ejecta_version", "test"}});
   auto section = [&](const std::string& id) {
