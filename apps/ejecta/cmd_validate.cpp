@@ -7,12 +7,10 @@
 #include <chrono>
 #include <exception>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <memory>
 #include <mutex>
-#include <sstream>
 #include <thread>
 
 #include <fmt/format.h>
@@ -53,13 +51,6 @@ int availableThreads(int requested) {
 #endif
 }
 
-std::string readFile(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 int runValidate(const ValidateOptions& o) {
   if (o.quick && o.full) throw InputError("level", "give --quick or --full, not both");
   if (o.jobs < 0) throw InputError("jobs", fmt::format("{} is out of range; valid >= 0 (0: one case per thread)", o.jobs));
@@ -86,7 +77,7 @@ int runValidate(const ValidateOptions& o) {
     const fs::path saved = work / plan.cases[i].id / "validation_case.json";
     if (o.reuse && fs::exists(saved)) {
       try {
-        auto j = json::parse(readFile(saved));
+        auto j = json::parse(io::readWholeFile(saved).value_or(""));
         if (j.at("deck_echo") == decks[i].echo) {
           outcomes[plan.cases[i].id] = std::move(j);
           ++reused;
@@ -184,7 +175,7 @@ int runValidate(const ValidateOptions& o) {
       throw;
     }
     fs::remove(data);
-    figures[name] = readFile(png);
+    figures[name] = io::readWholeFile(png).value_or("");
   }
   outputs.stage(out / "validation.json", [&](std::ostream& os) { os << report.dump(1) << '\n'; });
   outputs.stage(out / "validation.md", [&](std::ostream& os) { os << io::renderReportMarkdown(report); });

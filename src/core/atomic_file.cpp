@@ -1,3 +1,4 @@
+#include <sstream>
 #include "core/atomic_file.hpp"
 
 #include <atomic>
@@ -71,6 +72,14 @@ std::filesystem::path OutputTransaction::stage(const std::filesystem::path& fina
 void OutputTransaction::commit() {
   for (auto& [tmp, final_path] : staged_) std::filesystem::rename(tmp, final_path);
   committed_ = true;
+}
+
+std::optional<std::string> readWholeFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
 }
 
 }  // namespace ejecta::io

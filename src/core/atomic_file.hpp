@@ -1,6 +1,7 @@
 #pragma once
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -16,6 +17,9 @@ void writeFileAtomically(const std::filesystem::path& path, const std::string& c
 
 // A temporary path beside `path` whose rename onto `path` is atomic (same file system).
 std::filesystem::path temporarySibling(const std::filesystem::path& path);
+
+// The whole content of a file; std::nullopt if it cannot be opened.
+std::optional<std::string> readWholeFile(const std::filesystem::path& path);
 
 // Collects outputs of one command: each is staged to a temporary sibling, and all are
 // renamed into place by commit(). If the transaction is destroyed without commit() (an

@@ -40,7 +40,7 @@ Axis Axis::graded(double lo, double hi, double core_lo, double core_hi, double d
     };
     const int below = count(a - core_lo, a - lo), above = count(core_hi - a, hi - a);
     if (below + above < 1) throw InputError("mesh.cell_size", fmt::format("{:g} m is larger than the uniform core", dx));
-    for (int c = -below; c <= above; ++c) f.push_back(c == 0 ? a : a + c * dx);
+    for (int c = -below; c <= above; ++c) f.push_back(a + c * dx);
     core_lo = a - below * dx;
     core_hi = a + above * dx;
   } else {

@@ -1,13 +1,13 @@
 #include "scenario/deck.hpp"
 
 #include <cmath>
-#include <fstream>
 #include <set>
 #include <sstream>
 
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
 
 namespace ejecta::scenario {
@@ -325,11 +325,9 @@ Deck parseDeck(const std::string& text, const std::vector<std::string>& override
 }
 
 Deck loadDeck(const std::string& path, const std::vector<std::string>& overrides) {
-  std::ifstream in(path);
-  if (!in) throw InputError("deck", fmt::format("cannot read '{}'", path));
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parseDeck(ss.str(), overrides, path);
+  const auto text = io::readWholeFile(path);
+  if (!text) throw InputError("deck", fmt::format("cannot read '{}'", path));
+  return parseDeck(*text, overrides, path);
 }
 
 }  // namespace ejecta::scenario
