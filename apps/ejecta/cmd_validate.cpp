@@ -20,6 +20,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "ejecta/build_info.hpp"
+#include "hydro/solver.hpp"
 #include "io/report.hpp"
 #include "io/subprocess.hpp"
 #include "scenario/run.hpp"
@@ -78,7 +79,7 @@ int runValidate(const ValidateOptions& o) {
     if (o.reuse && fs::exists(saved)) {
       try {
         auto j = json::parse(io::readWholeFile(saved).value_or(""));
-        if (j.at("deck_echo") == decks[i].echo) {
+        if (j.at("deck_echo") == decks[i].echo && j.value("solver_revision", 1) == hydro::kSolverRevision) {
           outcomes[plan.cases[i].id] = std::move(j);
           ++reused;
           continue;
@@ -124,6 +125,7 @@ int runValidate(const ValidateOptions& o) {
         auto j = scenario::condenseOutcome(c, r);
         j["deck_echo"] = decks[i].echo;
         j["ejecta_version"] = build_info::version;
+        j["solver_revision"] = hydro::kSolverRevision;
         io::writeFileAtomically(work / c.id / "validation_case.json", j.dump() + "\n");
         std::lock_guard<std::mutex> g(lock);
         outcomes[c.id] = std::move(j);

@@ -25,6 +25,7 @@ using mesh::kGhost;
 namespace {
 constexpr double kAlphaMin = 1e-8;    // below this a material is a fragment: it rides along
 constexpr double kPureCell = 1.0 - 1e-9;
+constexpr double kAdiabatMinAlpha = 1e-3;   // products' adiabat is enforced from this volume fraction up
 
 inline double vanLeer(double a, double b) { return a * b > 0.0 ? 2.0 * a * b / (a + b) : 0.0; }
 
@@ -63,7 +64,7 @@ struct Solver::Pencil {
   std::array<std::vector<double>, 3> u;   // velocity components (global axes)
   std::vector<double> rho, P, K, Z, hoop;
   std::array<std::vector<double>, 2> shear;   // mixture s_{d,t} for the two transverse axes
-  std::vector<double> a, r, e, h, pk, kk, wl;
+  std::vector<double> a, r, e, h, ad, pk, kk, wl;
   std::array<std::vector<double>, 6> s;
   // faces
   std::vector<double> ustar, pstar, dvol;
@@ -72,7 +73,7 @@ struct Solver::Pencil {
   std::array<std::vector<double>, 3> mom;
   std::vector<double> vk, mk, iek;
   // remap fluxes at faces (signed, + along the axis)
-  std::vector<double> fv, fm, fe, fh;
+  std::vector<double> fv, fm, fe, fh, fa;
   std::array<std::vector<double>, 6> fs;
   std::array<std::vector<double>, 3> fmom;
   std::vector<double> fke;
@@ -91,9 +92,9 @@ struct Solver::Pencil {
     for (auto& v : mom) v.assign(sN, 0.0);
     for (auto& v : shear) v.assign(sN, 0.0);
     for (auto& v : fmom) v.assign(sF, 0.0);
-    for (auto* v : {&a, &r, &e, &h, &pk, &kk, &wl, &vk, &mk, &iek}) v->assign(sMN, 0.0);
+    for (auto* v : {&a, &r, &e, &h, &ad, &pk, &kk, &wl, &vk, &mk, &iek}) v->assign(sMN, 0.0);
     for (auto& v : s) v.assign(sMN, 0.0);
-    for (auto* v : {&fv, &fm, &fe, &fh}) v->assign(sMF, 0.0);
+    for (auto* v : {&fv, &fm, &fe, &fh, &fa}) v->assign(sMF, 0.0);
     for (auto& v : fs) v.assign(sMF, 0.0);
     solid.assign(sN, 0);
   }
@@ -120,6 +121,13 @@ Solver::Solver(mesh::Grid grid, std::vector<materials::Material> materials, Solv
     if (mats_[k].hasStrength())
       for (auto& c : f.s) c.assign(total, 0.0);
   }
+  isentropes_.resize(mats_.size());
+  if (opt_.products_adiabat)
+    for (std::size_t k = 0; k < mats_.size(); ++k)
+      if (mats_[k].eos == EosKind::Jwl) {
+        isentropes_[k] = std::make_shared<const materials::JwlIsentrope>(mats_[k].jwl);
+        fields_[k].adiabat.assign(total, 0.0);
+      }
   for (auto& c : u_) c.assign(total, 0.0);
   if (mats_.size() > 1) wlic_.assign(total * mats_.size(), 1.0);
   light_distance_.assign(total, std::numeric_limits<double>::infinity());
@@ -175,6 +183,7 @@ void Solver::paint(int mat, const std::function<bool(const Vec3&)>& inside, doub
         F.rho[cell] = rho;
         F.e[cell] = e;
         F.h0[cell] = 0.0;
+        if (!F.adiabat.empty()) F.adiabat[cell] = 0.0;
         for (int d = 0; d < 3; ++d) u_[static_cast<std::size_t>(d)][cell] = (1.0 - f) * u_[static_cast<std::size_t>(d)][cell] + f * u[static_cast<std::size_t>(d)];
       }
 }
@@ -227,8 +236,10 @@ void Solver::writeCheckpoint(std::ostream& os) const {
     for (const auto* v : {&f.alpha, &f.rho, &f.e, &f.h0}) putVec(os, *v);
     if (!f.s[0].empty())
       for (const auto& c : f.s) putVec(os, c);
+    if (!f.adiabat.empty()) putVec(os, f.adiabat);
   }
   for (const auto& c : u_) putVec(os, c);
+  putRaw(os, adiabat_sink_);
 }
 
 void Solver::readCheckpoint(std::istream& is) {
@@ -249,8 +260,10 @@ void Solver::readCheckpoint(std::istream& is) {
     for (auto* v : {&f.alpha, &f.rho, &f.e, &f.h0}) getVec(is, *v);
     if (!f.s[0].empty())
       for (auto& c : f.s) getVec(is, c);
+    if (!f.adiabat.empty()) getVec(is, f.adiabat);
   }
   for (auto& c : u_) getVec(is, c);
+  getRaw(is, adiabat_sink_);
   if (!is) throw InputError("restart", "the checkpoint is truncated");
 }
 
@@ -278,6 +291,7 @@ double Solver::pressure(std::size_t cell) const {
 Totals Solver::totals() const {
   Totals t;
   t.mass.assign(mats_.size(), 0.0);
+  t.adiabat_sink = adiabat_sink_;
   for (int i = 0; i < grid_.cells(0); ++i)
     for (int j = 0; j < grid_.cells(1); ++j)
       for (int k = 0; k < grid_.cells(2); ++k) {
@@ -406,6 +420,7 @@ void Solver::fillGhosts(int d) {
             f.rho[g] = f.rho[s];
             f.e[g] = f.e[s];
             f.h0[g] = f.h0[s];
+            if (!f.adiabat.empty()) f.adiabat[g] = f.adiabat[s];
             if (!f.s[0].empty())
               for (int c = 0; c < 6; ++c) f.s[static_cast<std::size_t>(c)][g] = f.s[static_cast<std::size_t>(c)][s];
             if (kind == BoundaryKind::Reflect && !f.s[0].empty())
@@ -467,14 +482,29 @@ void Solver::updateBurn(double dt) {
     if (mats_[k].eos != EosKind::Jwl) continue;
     const auto& j = mats_[k].jwl;
     auto& f = fields_[k];
-    const std::size_t total = grid_.totalCells();
+    const auto* isentrope = isentropes_[k].get();
+    // Products that finish burning start on the CJ isentrope, as an ideal detonation leaves them
+    // (products_adiabat): the programmed burn's own heating goes to the sink. Partial sums per
+    // row of the outermost axis, added in order, keep the sink independent of the thread count.
+    const int n0 = grid_.cells(0), n1 = grid_.cells(1), n2 = grid_.cells(2);
+    std::vector<double> row_sink(isentrope ? static_cast<std::size_t>(n0) : 0, 0.0);
 #pragma omp parallel for schedule(static)
-    for (std::size_t c = 0; c < total; ++c) {
-      if (f.alpha[c] <= 0.0 || f.h0[c] >= 1.0) continue;
-      const double lit = light_delay_[c] + light_distance_[c] / j.d_cj;
-      const double frac = std::clamp((t - lit) * j.d_cj / (j.burn_width * burn_length_[c]), 0.0, 1.0);
-      f.h0[c] = std::max(f.h0[c], frac);
-    }
+    for (int i = 0; i < n0; ++i)
+      for (int jj = 0; jj < n1; ++jj)
+        for (int kk = 0; kk < n2; ++kk) {
+          const std::size_t c = grid_.index(i, jj, kk);
+          if (f.alpha[c] <= 0.0 || f.h0[c] >= 1.0) continue;
+          const double lit = light_delay_[c] + light_distance_[c] / j.d_cj;
+          const double frac = std::clamp((t - lit) * j.d_cj / (j.burn_width * burn_length_[c]), 0.0, 1.0);
+          f.h0[c] = std::max(f.h0[c], frac);
+          if (isentrope && f.h0[c] >= 1.0 && materials::JwlIsentrope::covers(j.rho0 / f.rho[c])) {
+            const double e_cj = isentrope->energy(j.rho0 / f.rho[c]) / j.rho0;
+            row_sink[static_cast<std::size_t>(i)] += f.alpha[c] * f.rho[c] * grid_.cellVolume(i, jj, kk) * (f.e[c] - e_cj);
+            f.e[c] = e_cj;
+            f.adiabat[c] = 0.0;
+          }
+        }
+    for (const double e : row_sink) adiabat_sink_ += e;
   }
 }
 
@@ -572,6 +602,8 @@ void Solver::sweep(int d, double dt) {
   const bool has_body = !body_.empty();
   const double wall_u = body_velocity_[static_cast<std::size_t>(d)];
   const double friction = opt_.body_friction;
+  const bool track = opt_.products_adiabat;
+  std::vector<double> pencil_sink(track ? static_cast<std::size_t>(n1) * static_cast<std::size_t>(n2) : 0, 0.0);
   std::vector<double> pencil_impulse(has_body ? static_cast<std::size_t>(n1) * static_cast<std::size_t>(n2) * static_cast<std::size_t>(M) : 0, 0.0);
   // Geometry along the sweep axis is the same for every pencil: centres, widths, faces, and the
   // inverse centre spacings the slopes use.
@@ -642,6 +674,7 @@ void Solver::sweep(int d, double dt) {
             P.wl[ki] = M > 1 ? wlic_[static_cast<std::size_t>(k) * total_cells + c] : 1.0;
             P.r[ki] = F.rho[c];
             P.e[ki] = F.e[c];
+            P.ad[ki] = F.adiabat.empty() ? 0.0 : F.adiabat[c];
             double h = F.h0[c];
             if (al > 0.0) {
               const auto st = materials::evaluateEos(mat, F.rho[c], F.e[c], h);
@@ -872,7 +905,7 @@ void Solver::sweep(int d, double dt) {
           const double dvf = P.dvol[sf];
           for (int k = 0; k < M; ++k) {
             const std::size_t kf = static_cast<std::size_t>(k * (N + 1) + f);
-            P.fv[kf] = P.fm[kf] = P.fe[kf] = P.fh[kf] = 0.0;
+            P.fv[kf] = P.fm[kf] = P.fe[kf] = P.fh[kf] = P.fa[kf] = 0.0;
             for (auto& fs : P.fs) fs[kf] = 0.0;
           }
           for (auto& fm : P.fmom) fm[sf] = 0.0;
@@ -938,6 +971,7 @@ void Solver::sweep(int d, double dt) {
             P.fm[kf] = sign * mflux;
             P.fe[kf] = sign * eflux;
             P.fh[kf] = sign * mflux * P.h[kD];
+            P.fa[kf] = sign * mflux * P.ad[kD];
             if (!fields_[static_cast<std::size_t>(k)].s[0].empty())
               for (std::size_t q = 0; q < 6; ++q) P.fs[q][kf] = sign * mflux * P.s[q][kD];
             dm += mflux;
@@ -956,6 +990,7 @@ void Solver::sweep(int d, double dt) {
           P.fke[sf] = sign * ke;
         }
         // ---- new Eulerian state of cells g .. g+n-1, scattered back
+        double sink = 0.0;
         for (int i = g; i < g + n; ++i) {
           const std::size_t si = static_cast<std::size_t>(i), c = cell(i);
           if (has_body && P.solid[si]) continue;   // the body's cells keep their (unused) state
@@ -1003,6 +1038,35 @@ void Solver::sweep(int d, double dt) {
             F.h0[c] = (P.h[ki] * P.mk[ki] + P.fh[kf] - P.fh[kf + 1]) / mk_new[k];
             if (!F.s[0].empty())
               for (std::size_t q = 0; q < 6; ++q) F.s[q][c] = (P.s[q][ki] * P.mk[ki] + P.fs[q][kf] - P.fs[q][kf + 1]) / mk_new[k];
+            if (!F.adiabat.empty()) {
+              // the products' adiabat (SolverOptions::products_adiabat): carried with the mass; a
+              // compressing sweep may raise it; in an expanding one the products follow it (the
+              // energy off it, mostly the scheme's heat, goes to the sink)
+              // (a mass-weighted mean of the cell and its donors, kept within their range: a
+              // sliver's mass may nearly cancel while its fluxes' adiabats do not)
+              const double lo = std::min({P.ad[ki - 1], P.ad[ki], P.ad[ki + 1]}), hi = std::max({P.ad[ki - 1], P.ad[ki], P.ad[ki + 1]});
+              const double carried = std::clamp((P.ad[ki] * P.mk[ki] + P.fa[kf] - P.fa[kf + 1]) / mk_new[k], lo, hi);
+              const auto& jw = mats_[static_cast<std::size_t>(k)].jwl;
+              const double Vr = jw.rho0 / F.rho[c];
+              if (F.h0[c] >= 1.0 && al > kAdiabatMinAlpha && materials::JwlIsentrope::covers(Vr)) {
+                const double vw = std::pow(Vr, jw.omega);
+                const double e_s = isentropes_[static_cast<std::size_t>(k)]->energy(Vr) / jw.rho0;
+                // Entropy never falls below the CJ isentrope's (c >= 0): all products start there
+                // and physics only raises it; this also keeps their energy above e_s(V) > 0.
+                const double c_now = (F.e[c] - e_s) * vw;
+                const double c_new = P.vlag[si] < P.vol[si] ? std::max(c_now, 0.0) : std::max(carried, 0.0);
+                if (c_new != c_now) {
+                  const double e_adiabat = e_s + c_new / vw;
+                  sink += mk_new[k] * (F.e[c] - e_adiabat);
+                  F.e[c] = e_adiabat;
+                }
+                F.adiabat[c] = c_new;
+              } else {
+                // still burning (the CJ isentrope's, 0), or a sliver squeezed or rarefied off the
+                // table, whose energy is left to the scheme
+                F.adiabat[c] = carried;
+              }
+            }
             ok = ok && std::isfinite(F.rho[c]) && F.rho[c] > 0.0 && std::isfinite(F.e[c]);
           }
           for (std::size_t q = 0; q < 3; ++q) {
@@ -1011,10 +1075,12 @@ void Solver::sweep(int d, double dt) {
           }
           if (!ok && c < my_bad) my_bad = c;
         }
+        if (track) pencil_sink[static_cast<std::size_t>(a) * static_cast<std::size_t>(n2) + static_cast<std::size_t>(b)] = sink;
       }
 #pragma omp critical
     bad_cell = std::min(bad_cell, my_bad);
   }
+  for (const double e : pencil_sink) adiabat_sink_ += e;   // in pencil order: thread-count independent
   if (has_body) {
     for (std::size_t pc = 0; pc < pencil_impulse.size() / static_cast<std::size_t>(M); ++pc)
       for (int k = 0; k < M; ++k) {

@@ -19,6 +19,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <iosfwd>
 #include <string>
 #include <vector>
@@ -35,6 +36,10 @@ struct DetonationPoint {
   double time = 0.0; // s, when it lights
 };
 
+// Revision of the numerics: raised whenever a change alters results (2: products' adiabat).
+// `ejecta validate --reuse` reruns a case saved by another revision.
+inline constexpr int kSolverRevision = 2;
+
 struct SolverOptions {
   double cfl = 0.45;                     // - Courant number of each sweep
   Vec3 gravity{0.0, 0.0, 0.0};           // m/s2
@@ -47,12 +52,19 @@ struct SolverOptions {
   double min_dt = 1e-14;                 // s: below this the step has collapsed and the run stops
   double initial_dt_fraction = 0.1;      // first step = this fraction of the CFL step
   double body_friction = 0.0;            // - Coulomb coefficient between the flow and the body
+  // Detonation products keep their adiabat except in compression: once burnt, a JWL material's
+  // entropy (c = (e - e_s(V)) V^omega, e_s the CJ isentrope) starts at the CJ isentrope's, is
+  // carried with its mass, may change only in a sweep that compresses the cell (shocks, the
+  // reflection at a target), and in expansion the energy above that adiabat, which the scheme's
+  // dissipation puts there at O(h), is taken out (Totals::adiabat_sink). Off: the plain scheme.
+  bool products_adiabat = false;
 };
 
 // One material's fields over the block (ghosts included), flat arrays.
 struct MaterialFields {
   std::vector<double> alpha, rho, e, h0;        // -, kg/m3, J/kg, history (burn fraction or x_max)
   std::array<std::vector<double>, 6> s;         // Pa, deviatoric stress xx yy zz xy yz xz (if strength)
+  std::vector<double> adiabat;                  // J/kg, JWL products' c with products_adiabat (else empty)
 };
 
 struct Totals {
@@ -60,7 +72,8 @@ struct Totals {
   Vec3 momentum{};               // kg m/s
   double internal_energy = 0.0;  // J
   double kinetic_energy = 0.0;   // J
-  double total() const { return internal_energy + kinetic_energy; }
+  double adiabat_sink = 0.0;     // J taken out of the products by products_adiabat so far
+  double total() const { return internal_energy + kinetic_energy + adiabat_sink; }
 };
 
 // Statistics of a run so far, for progress lines and summaries.
@@ -148,6 +161,8 @@ class Solver {
   std::vector<double> light_distance_;   // m, to the nearest detonation point (+inf without one)
   std::vector<double> light_delay_;      // s, that point's own lighting time
   std::vector<double> burn_length_;      // m, burn ramp length of the cell
+  std::vector<std::shared_ptr<const materials::JwlIsentrope>> isentropes_;   // per material (JWL with products_adiabat)
+  double adiabat_sink_ = 0.0;            // J, see SolverOptions::products_adiabat
   double time_ = 0.0;
   double last_dt_ = 0.0;
   std::int64_t step_ = 0;

@@ -1,5 +1,6 @@
 #include "materials/material.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -141,6 +142,54 @@ CjState chapmanJouguet(const JwlParams& j) {
   }
   const double v = 0.5 * (lo + hi);
   return {hugoniot(v), std::sqrt(d2(v)), v};
+}
+
+JwlIsentrope::JwlIsentrope(const JwlParams& j) {
+  const auto cj = chapmanJouguet(j);
+  auto p = [&j](double V, double E) {
+    return j.a * (1.0 - j.omega / (j.r1 * V)) * std::exp(-j.r1 * V) + j.b * (1.0 - j.omega / (j.r2 * V)) * std::exp(-j.r2 * V) + j.omega * E / V;
+  };
+  // dE/dlnV = -p V, stepped in ln V from CJ both ways, 16 sub-steps per table interval.
+  constexpr int kPoints = 4001, kSub = 16;
+  const double step = (kLnVMax - kLnVMin) / (kPoints - 1);
+  inv_step_ = 1.0 / step;
+  e_.assign(kPoints, 0.0);
+  const double x_cj = std::log(cj.relative_volume), e_cj = j.e0 + 0.5 * cj.pressure * (1.0 - cj.relative_volume);
+  auto integrate = [&](double x0, double e0, double x1) {
+    const int n = std::max(1, static_cast<int>(std::ceil(std::abs(x1 - x0) * inv_step_ * kSub)));
+    const double h = (x1 - x0) / n;
+    auto f = [&](double x, double E) { const double V = std::exp(x); return -p(V, E) * V; };
+    double x = x0, E = e0;
+    for (int i = 0; i < n; ++i) {
+      const double k1 = f(x, E), k2 = f(x + 0.5 * h, E + 0.5 * h * k1), k3 = f(x + 0.5 * h, E + 0.5 * h * k2), k4 = f(x + h, E + h * k3);
+      E += h * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0;
+      x += h;
+    }
+    return E;
+  };
+  const int i_cj = static_cast<int>(std::floor((x_cj - kLnVMin) * inv_step_));
+  double x = x_cj, E = e_cj;
+  for (int i = i_cj + 1; i < kPoints; ++i) {   // expansion
+    const double xi = kLnVMin + i * step;
+    E = integrate(x, E, xi);
+    x = xi;
+    e_[static_cast<std::size_t>(i)] = E;
+  }
+  x = x_cj;
+  E = e_cj;
+  for (int i = i_cj; i >= 0; --i) {   // compression
+    const double xi = kLnVMin + i * step;
+    E = integrate(x, E, xi);
+    x = xi;
+    e_[static_cast<std::size_t>(i)] = E;
+  }
+}
+
+double JwlIsentrope::energy(double relative_volume) const {
+  const double u = std::clamp((std::log(relative_volume) - kLnVMin) * inv_step_, 0.0, static_cast<double>(e_.size() - 1));
+  const std::size_t i = std::min(static_cast<std::size_t>(u), e_.size() - 2);
+  const double w = u - static_cast<double>(i);
+  return e_[i] + w * (e_[i + 1] - e_[i]);
 }
 
 }  // namespace ejecta::materials

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "materials/sand_model.hpp"
 
@@ -139,5 +140,24 @@ struct CjState {
   double relative_volume;  // V_CJ / V0
 };
 CjState chapmanJouguet(const JwlParams& j);
+
+// The CJ isentrope of JWL detonation products: the energy per unit initial volume E_s(V) of the
+// products taken from the CJ state (E_CJ = E0 + p_CJ (1 - V_CJ) / 2) without dissipation,
+// dE/dV = -p(V, E), integrated once (RK4) into a table uniform in ln V, from V = 0.3 (products
+// compressed beyond CJ, as at a reflection) to V = 1e5. The products of an ideal detonation lie on
+// it; every other isentrope of a JWL set is E = E_s(V) + c V^-omega (constant Grueneisen omega),
+// which is how the solver tracks the products' entropy (SolverOptions::products_adiabat).
+class JwlIsentrope {
+ public:
+  explicit JwlIsentrope(const JwlParams& j);
+  double energy(double relative_volume) const;   // Pa (J per m3 of unreacted explosive)
+  static bool covers(double relative_volume) { return relative_volume >= 0.3 && relative_volume <= 1e5; }
+
+ private:
+  static constexpr double kLnVMin = -1.2039728043259361;   // ln 0.3
+  static constexpr double kLnVMax = 11.512925464970229;    // ln 1e5 (vented products reach air's density)
+  double inv_step_ = 0.0;
+  std::vector<double> e_;   // at ln V = kLnVMin + i / inv_step_
+};
 
 }  // namespace ejecta::materials

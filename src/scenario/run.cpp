@@ -304,6 +304,18 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
                    {"final_plate_velocity_m_s", res.final_velocity_m_s},
                    {"plate_displacement_m", res.displacement_m},
                    {"end_time_s", s.time()}};
+  {
+    // The detonation products' energy budget: what the charge releases, and what the products'
+    // adiabat tracking took out (the scheme's heating of the products; docs/solver.md).
+    double e_charge = 0.0;
+    for (std::size_t k = 0; k < nmat; ++k)
+      if (cs.material_kind[k] == "products") e_charge = deck.charge.mass_kg * s.materials()[k].jwl.e0 / s.materials()[k].jwl.rho0;
+    const double sink = cs.symmetry * s.totals().adiabat_sink;
+    sum["energy"] = {{"charge_J", e_charge},
+                     {"products_adiabat", deck.products_adiabat},
+                     {"adiabat_sink_J", sink},
+                     {"adiabat_sink_fraction_of_charge", e_charge > 0.0 ? sink / e_charge : 0.0}};
+  }
   sum["charge"] = {{"radius_m", cs.charge.radius_m}, {"height_m", cs.charge.height_m}, {"z_top_m", cs.charge.z_top_m},
                    {"z_bottom_m", cs.charge.z_bottom_m}, {"detonation_z_m", cs.charge.detonation_m[1]}};
   sum["run"] = {{"cells", res.cells},

@@ -146,29 +146,4 @@ double TaylorWave::pressure(double x) const {
   return p_[i - 1] + t * (p_[i] - p_[i - 1]);
 }
 
-JwlIsentrope::JwlIsentrope(const materials::JwlParams& j) {
-  const auto cj = materials::chapmanJouguet(j);
-  auto p = [&j](double V, double E) {
-    return j.a * (1.0 - j.omega / (j.r1 * V)) * std::exp(-j.r1 * V) + j.b * (1.0 - j.omega / (j.r2 * V)) * std::exp(-j.r2 * V) + j.omega * E / V;
-  };
-  double V = cj.relative_volume, E = j.e0 + 0.5 * cj.pressure * (1.0 - cj.relative_volume);
-  while (V < 500.0) {
-    v_.push_back(V);
-    e_.push_back(E);
-    const double dV = std::min(1e-3 * V, 0.5);
-    const double k1 = -p(V, E), k2 = -p(V + 0.5 * dV, E + 0.5 * dV * k1), k3 = -p(V + 0.5 * dV, E + 0.5 * dV * k2), k4 = -p(V + dV, E + dV * k3);
-    E += dV * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0;
-    V += dV;
-  }
-}
-
-double JwlIsentrope::energy(double relative_volume) const {
-  if (relative_volume <= v_.front()) return e_.front();
-  if (relative_volume >= v_.back()) return e_.back();
-  const auto it = std::upper_bound(v_.begin(), v_.end(), relative_volume);
-  const std::size_t i = static_cast<std::size_t>(it - v_.begin());
-  const double w = (relative_volume - v_[i - 1]) / (v_[i] - v_[i - 1]);
-  return e_[i - 1] + w * (e_[i] - e_[i - 1]);
-}
-
 }  // namespace ejecta::verify

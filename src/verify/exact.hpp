@@ -69,16 +69,4 @@ class TaylorWave {
   double p_wall_ = 0.0, xi_wall_ = 0.0;
 };
 
-// The CJ isentrope of JWL detonation products: the energy per unit initial volume E_s(V) of the
-// products expanded from the CJ state (E_CJ = E0 + p_CJ (1 - V_CJ) / 2) without dissipation,
-// dE/dV = -p(V, E), integrated once (RK4) into a table; V = v / v0 from V_CJ to 500.
-class JwlIsentrope {
- public:
-  explicit JwlIsentrope(const materials::JwlParams& j);
-  double energy(double relative_volume) const;   // Pa (J per m3 of unreacted explosive)
-
- private:
-  std::vector<double> v_, e_;
-};
-
 }  // namespace ejecta::verify

@@ -442,13 +442,17 @@ void jwlDetonation(const std::string& explosive, const std::vector<int>& levels,
 
 // A 40 mm slab of Comp B detonated at a rigid wall and expanding into air (1D): the products should
 // follow the CJ isentrope. Reported: the mass-weighted mean of E / E_s(V) - 1 over the cells of
-// pure products at 100 us (V = 10 to 40). Informative: it measures the entropy the burn, the
-// mixed products-air cell and the remap add, which at coarse cells drives the products' late
-// pressure (docs/solver.md).
-void productsIsentrope(const std::vector<int>& levels, Report& rep) {
+// pure products at 100 us (V = 10 to 40). With the plain scheme it is informative: it measures
+// the entropy the burn, the mixed products-air cell and the remap add, which at coarse cells drives
+// the products' late pressure (docs/solver.md). With products_adiabat (what `ejecta run` uses) the
+// products must stay within 5% of the isentrope at every resolution: the check that the tracking
+// holds them on it and puts the energy it takes out in the sink (total energy with the sink is
+// conserved: the conservation column).
+void productsIsentrope(const std::vector<int>& levels, bool adiabat, Report& rep) {
+  const std::string name = adiabat ? "products-isentrope-adiabat" : "products-isentrope";
   const std::size_t first = rep.rows.size();
   const Material ex = materials::explosive("CompB");
-  const JwlIsentrope isentrope(ex.jwl);
+  const materials::JwlIsentrope isentrope(ex.jwl);
   const double slab = 0.04, L = 2.0, t_end = 100e-6;
   for (const int n : levels) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -457,6 +461,7 @@ void productsIsentrope(const std::vector<int>& levels, Report& rep) {
     setAll(o, BoundaryKind::Transmit);
     o.boundary[0][0] = BoundaryKind::Reflect;
     o.detonation.push_back({{0.0, 0.0, 0.0}, 0.0});
+    o.products_adiabat = adiabat;
     Solver s(Grid(1, Geometry::Cartesian, {Axis::uniform(0.0, L, cells), Axis{}, Axis{}}), {materials::air(), ex}, o);
     s.paint(0, [](const Vec3&) { return true; }, 1.225, gasEnergy(101325.0, 1.225, 1.4));
     s.paint(1, [slab](const Vec3& x) { return x[0] < slab; }, ex.jwl.rho0, ex.jwl.e0 / ex.jwl.rho0, {}, 8);
@@ -466,7 +471,7 @@ void productsIsentrope(const std::vector<int>& levels, Report& rep) {
     const Grid& g = s.grid();
     const auto& F = s.field(1);
     double mass = 0.0, excess = 0.0;
-    Profile prof{"products-isentrope", n, "relative volume V = rho0/rho", "E / E_s(V) (pure products cells)", {}, {}, {}};
+    Profile prof{name, n, "relative volume V = rho0/rho", "E / E_s(V) (pure products cells)", {}, {}, {}};
     for (int i = 0; i < cells; ++i) {
       const std::size_t c = g.index(i, 0, 0);
       if (F.alpha[c] < 0.99) continue;
@@ -479,10 +484,12 @@ void productsIsentrope(const std::vector<int>& levels, Report& rep) {
       prof.exact.push_back(1.0);
     }
     rep.profiles.push_back(std::move(prof));
-    rep.rows.push_back({"products-isentrope", "1D", "mass mean of E/E_s(V) - 1, CompB products at 100 us", n, g.interiorCells(),
-                        mass > 0.0 ? excess / mass : kNaN, 0.0, drift(before, after, false), seconds(t0), "", true, s.stats().steps});
+    const double err = mass > 0.0 ? excess / mass : kNaN;
+    rep.rows.push_back({name, "1D", "mass mean of E/E_s(V) - 1, CompB products at 100 us", n, g.interiorCells(), err, 0.0,
+                        drift(before, after, true), seconds(t0), adiabat ? "|error| <= 5%" : "", !adiabat || std::abs(err) <= 0.05,
+                        s.stats().steps});
   }
-  fillOrders(rep.rows, first, "products-isentrope");
+  fillOrders(rep.rows, first, name);
 }
 
 // Position of the last crossing (from the high side of the axis) of `level` by `field`.
@@ -699,7 +706,8 @@ Report runVerification(const Options& opt) {
   }
   if (wanted("products-isentrope")) {
     say("CompB slab expanding into air (1D): products against the CJ isentrope");
-    productsIsentrope({2, 4, 8, 20, 80}, rep);
+    productsIsentrope({2, 4, 8, 20, 80}, false, rep);
+    productsIsentrope({2, 4, 8, 20, 80}, true, rep);
   }
   if (wanted("tnt-free-air")) {
     say("1 kg TNT in free air (2D axisymmetric)");
