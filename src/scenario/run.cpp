@@ -315,6 +315,7 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
                      {"products_adiabat", deck.products_adiabat},
                      {"adiabat_sink_J", sink},
                      {"adiabat_sink_fraction_of_charge", e_charge > 0.0 ? sink / e_charge : 0.0}};
+    res.adiabat_sink_fraction = e_charge > 0.0 ? sink / e_charge : 0.0;
   }
   sum["charge"] = {{"radius_m", cs.charge.radius_m}, {"height_m", cs.charge.height_m}, {"z_top_m", cs.charge.z_top_m},
                    {"z_bottom_m", cs.charge.z_bottom_m}, {"detonation_z_m", cs.charge.detonation_m[1]}};

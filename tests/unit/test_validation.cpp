@@ -62,6 +62,7 @@ json outcome(const scenario::ValidationCase& c, double impulse) {
   r.profile_r_m = {0.0, 0.1};
   r.profile_times_s = {1e-3};
   r.profiles_m = {{0.05, std::nan("")}};
+  r.adiabat_sink_fraction = 0.125;
   return scenario::condenseOutcome(c, r, 100);
 }
 
@@ -84,6 +85,7 @@ TEST(ValidationReport, StudiesComputeSpreadTrendsAndChangesFromTheResults) {
   EXPECT_NEAR(mesh.at("checks")[0].at("value").get<double>(), 2.0, 1e-9);
   EXPECT_TRUE(mesh.at("checks")[0].at("pass").get<bool>());
   EXPECT_NEAR(mesh.at("plot").at("mean_Ns").get<double>(), 5000.0, 1e-9);
+  EXPECT_EQ(mesh.at("table").at("rows")[1][8], "12.5%");   // the products' adiabat sink, % of the charge
   // moisture: 7% -> 22% rises by 5% although 14% -> 22% falls
   const auto moist = section("moisture");
   EXPECT_NEAR(moist.at("checks")[0].at("value").get<double>(), 5.0, 1e-9);
