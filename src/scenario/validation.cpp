@@ -251,7 +251,8 @@ json validationReport(const ValidationPlan& plan, const std::map<std::string, js
                                                    "Here the finest three sizes lie within {:.2f}% of their mean ({:.0f} N s); "
                                                    "the coarsest ({} mm) is {:+.1f}% off it. The detonation products keep their adiabat "
                                                    "except where compressed (products_adiabat, docs/solver.md); the last column is the energy that "
-                                                   "took out of them, the heat the scheme's dissipation put in, as a share of the charge's energy.",
+                                                   "this took out of them (the heat the scheme's dissipation put in; negative where it raised "
+                                                   "products that the scheme had cooled below the CJ isentrope), as a share of the charge's energy.",
                                                    spread, mean, mm(h[0]), 100.0 * (imp[0] - mean) / mean)});
       sec["figure"] = "mesh.png";
       sec["caption"] = "Impulse on the fixed plate vs time for each cell size (left) and at 10 ms vs cell size (right).";
