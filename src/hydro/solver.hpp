@@ -36,9 +36,10 @@ struct DetonationPoint {
   double time = 0.0; // s, when it lights
 };
 
-// Revision of the numerics: raised whenever a change alters results (2: products' adiabat).
-// `ejecta validate --reuse` reruns a case saved by another revision.
-inline constexpr int kSolverRevision = 2;
+// Revision of the numerics: raised whenever a change alters results (2: products' adiabat;
+// 3: no adiabat, energy conserved with a ledger, mixed-cell heat by compression, the sand's energy
+// term). `ejecta validate --reuse` reruns a case saved by another revision.
+inline constexpr int kSolverRevision = 3;
 
 struct SolverOptions {
   double cfl = 0.45;                     // - Courant number of each sweep
@@ -52,19 +53,20 @@ struct SolverOptions {
   double min_dt = 1e-14;                 // s: below this the step has collapsed and the run stops
   double initial_dt_fraction = 0.1;      // first step = this fraction of the CFL step
   double body_friction = 0.0;            // - Coulomb coefficient between the flow and the body
-  // Detonation products keep their adiabat except in compression: once burnt, a JWL material's
-  // entropy (c = (e - e_s(V)) V^omega, e_s the CJ isentrope) starts at the CJ isentrope's, is
-  // carried with its mass, may change only in a sweep that compresses the cell (shocks, the
-  // reflection at a target), and in expansion the energy above that adiabat, which the scheme's
-  // dissipation puts there at O(h), is taken out (Totals::adiabat_sink). Off: the plain scheme.
-  bool products_adiabat = false;
 };
 
 // One material's fields over the block (ghosts included), flat arrays.
 struct MaterialFields {
   std::vector<double> alpha, rho, e, h0;        // -, kg/m3, J/kg, history (burn fraction or x_max)
   std::array<std::vector<double>, 6> s;         // Pa, deviatoric stress xx yy zz xy yz xz (if strength)
-  std::vector<double> adiabat;                  // J/kg, JWL products' c with products_adiabat (else empty)
+};
+
+// Energy that crossed the block's edges since the start, J (axisymmetric: per radian). With the
+// energy held in the cells it closes the books: E(t) = E(0) + boundary_in - target_work + gravity_work.
+struct EnergyLedger {
+  double boundary_in = 0.0;    // through the block's boundary faces (outflow negative)
+  double target_work = 0.0;    // work done by the flow on the moving body
+  double gravity_work = 0.0;   // work done by gravity on the flow
 };
 
 struct Totals {
@@ -72,8 +74,11 @@ struct Totals {
   Vec3 momentum{};               // kg m/s
   double internal_energy = 0.0;  // J
   double kinetic_energy = 0.0;   // J
-  double adiabat_sink = 0.0;     // J taken out of the products by products_adiabat so far
-  double total() const { return internal_energy + kinetic_energy + adiabat_sink; }
+  std::vector<double> internal_by_material, kinetic_by_material;   // J
+  double boundary_in = 0.0, target_work = 0.0, gravity_work = 0.0;  // J, EnergyLedger so far
+  double total() const { return internal_energy + kinetic_energy; }   // held in the cells
+  // What the cells should hold given E0 = total() at the start: E0 + inflow - work + gravity.
+  double accounted(double e0) const { return e0 + boundary_in - target_work + gravity_work; }
 };
 
 // Statistics of a run so far, for progress lines and summaries.
@@ -82,6 +87,9 @@ struct RunStats {
   double cell_updates = 0.0;
   double wall_seconds = 0.0;
 };
+
+struct Pencil;       // hydro/pencil.hpp: the sweep's kernels
+struct SweepSetup;
 
 class Solver {
  public:
@@ -138,12 +146,14 @@ class Solver {
   double pressure(std::size_t cell) const;             // Pa, volume-fraction weighted
   double materialPressure(int mat, std::size_t cell) const;
   Totals totals() const;
+  const EnergyLedger& energyLedger() const { return energy_; }
 
  private:
-  struct Pencil;   // per-thread scratch of one 1D sweep
   void fillGhosts(int d);
   void interfaceWeights(int d);
   void sweep(int d, double dt);
+  void gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, const SweepSetup& S) const;
+  std::size_t scatterPencil(const Pencil& P, int d, std::size_t base);
   void updateBurn(double dt);
   void updateStress(double dt);
   void checkCell(std::size_t cell, const char* stage) const;
@@ -161,8 +171,7 @@ class Solver {
   std::vector<double> light_distance_;   // m, to the nearest detonation point (+inf without one)
   std::vector<double> light_delay_;      // s, that point's own lighting time
   std::vector<double> burn_length_;      // m, burn ramp length of the cell
-  std::vector<std::shared_ptr<const materials::JwlIsentrope>> isentropes_;   // per material (JWL with products_adiabat)
-  double adiabat_sink_ = 0.0;            // J, see SolverOptions::products_adiabat
+  EnergyLedger energy_;
   double time_ = 0.0;
   double last_dt_ = 0.0;
   std::int64_t step_ = 0;

@@ -147,7 +147,8 @@ void writeLsdynaKeywords(std::ostream& os, const materials::SandModel& model, co
   const auto c = chooseCompactionPoints(model, 10);
   os << "*EOS_TABULATED_COMPACTION\n";
   os << "$#   EOSID      GAMA        E0        V0\n";
-  os << fmt::format("{:>10}", o.eos_id) << fitField(0.0, 10) << fitField(0.0, 10) << fitField(1.0, 10) << '\n';
+  // GAMA and T(ev): the energy term p = C(ev) + GAMA T(ev) E, E per unit reference volume (SandModel::thermalGamma)
+  os << fmt::format("{:>10}", o.eos_id) << fitField(model.thermalGamma(), 10) << fitField(0.0, 10) << fitField(1.0, 10) << '\n';
   auto five = [&](const char* head, const std::vector<double>& v, double f, int first) {
     os << "$#" << fmt::format("{:>14}", fmt::format("{}{}", head, first));
     for (int i = first + 1; i < first + 5; ++i) os << fmt::format("{:>16}", fmt::format("{}{}", head, i));
@@ -160,9 +161,10 @@ void writeLsdynaKeywords(std::ostream& os, const materials::SandModel& model, co
   five("EV", c.ln_v, 1.0, 6);
   five("C", c.pressure, fp, 1);
   five("C", c.pressure, fp, 6);
-  const std::vector<double> zeros(10, 0.0);
-  five("T", zeros, 1.0, 1);
-  five("T", zeros, 1.0, 6);
+  std::vector<double> thermal;
+  for (const double lv : c.ln_v) thermal.push_back(model.thermalFactor(-lv));   // ev = ln(V/V0) = -x
+  five("T", thermal, 1.0, 1);
+  five("T", thermal, 1.0, 6);
   five("K", c.unloading, fp, 1);
   five("K", c.unloading, fp, 6);
   os << "*END\n";

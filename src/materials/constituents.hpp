@@ -14,6 +14,10 @@ struct QuartzParams {
   double dK_dp = 6.0;              // - pressure derivative K'; ours: single-crystal alpha-quartz
                                    //   compression studies give 4-6; sensitivity reported
   double shear_modulus = 45.0e9;   // Pa (verified)
+  // Thermal terms, for the sand's energy term only (recalled handbook values, not in shared/data):
+  // volumetric expansion 3.5e-5 /K and c_v 740 J/(kg K) give Gruneisen alpha K / (rho c_v) = 0.66.
+  double gruneisen = 0.66;             // -
+  double heat_capacity = 740.0;        // J/(kg K)
 
   double strain(double p) const;            // engineering volumetric strain 1 - V/V0 at pressure p
   double compliance(double p) const;        // d strain / dp

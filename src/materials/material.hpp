@@ -125,11 +125,30 @@ inline EosState evaluateEos(const Material& m, double rho, double e, double h0) 
     }
     case EosKind::Sand: {
       const double x = std::log(rho / m.sand->referenceDensity());
-      const auto r = m.sand->evaluate(x, h0);
+      const auto r = m.sand->evaluate(x, h0, e);
       return {r.pressure, r.bulk_modulus};
     }
   }
   return {0.0, 1e5};
+}
+
+// The history scalar after a cell holds the material at density rho: the sand's largest natural
+// strain ln(rho/rho0) grows (it sets the unloading branch and the shear modulus); the burn
+// fraction of products is the burn's to change.
+inline double updatedHistory(const Material& m, double rho, double h0) noexcept {
+  if (m.eos != EosKind::Sand) return h0;
+  const double x = std::log(rho / m.sand->referenceDensity());
+  return x > h0 ? x : h0;
+}
+
+// Shear modulus (Pa) and yield strength (Pa) at pressure p, for materials with strength.
+inline double shearModulus(const Material& m, double h0) noexcept {
+  return m.strength.kind == StrengthKind::VonMises ? m.strength.shear_modulus : (m.sand ? m.sand->shearModulus(h0) : 0.0);
+}
+inline double yieldStrength(const Material& m, double p) noexcept {
+  if (m.strength.kind == StrengthKind::VonMises) return m.strength.yield;
+  const double y = m.sand_slope * (p > 0.0 ? p : 0.0);   // the pseudo-tensor: friction, then the plateau
+  return y < m.sand_plateau ? y : m.sand_plateau;
 }
 
 // The CJ state implied by a JWL set: the products' Hugoniot from (rho0, p = 0, E0) and the

@@ -12,6 +12,7 @@ namespace ejecta::materials {
 
 namespace {
 constexpr double kWaterDensity = 1000.0;   // kg/m3, for the volume of the pore water (verified)
+constexpr double kWaterHeatCapacity = 4180.0;   // J/(kg K), for the energy term's weights (recalled handbook value)
 
 void requireFinite(const char* field, double v) {
   if (!std::isfinite(v)) throw InputError(field, "must be a finite number");
@@ -108,6 +109,7 @@ SandModel::SandModel(const SandInputs& in) : in_(in), void_((
   requireRange("plateau-scale", in.plateau.scale, 0.0, 100.0, "-", false, false);
   requireRange("plateau-residual", in.plateau.residual, 0.0, 1e10, "Pa", false, false);
   requireRange("yield-plateau", in.plateau.fixed, 0.0, 1e10, "Pa", false, false);
+  if (in.thermal_gamma >= 0.0) requireRange("thermal-gamma", in.thermal_gamma, 0.0, 4.0, "-", true, true);
 
   SandState s{};
   s.dry_density = in.dry_density;
@@ -135,9 +137,22 @@ SandModel::SandModel(const SandInputs& in) : in_(in), void_((
     const double p_skeleton = void_.pressureAtClosure(s.air_voids / s.porosity);
     plateau_ = std::max(in.plateau.scale * in.friction_slope * p_skeleton, in.plateau.residual);
   }
+  // The energy term's Gruneisen coefficient from the constituents (see thermalGamma()).
+  {
+    const double phi_q = 1.0 - s.porosity, phi_w = s.water_fraction;
+    const auto& q = in.quartz;
+    const double cw = kWaterHeatCapacity, Kw = in.water.bulkModulus();
+    const double rc_q = q.grain_density * q.heat_capacity, rc_w = kWaterDensity * cw;
+    const double comp = phi_q / q.bulk_modulus + phi_w / Kw;
+    const double p_per_dT = (phi_q / q.bulk_modulus * q.gruneisen * rc_q + phi_w / Kw * in.water.gamma0 * rc_w) / comp;
+    // per unit volume of the compacted state (air voids closed), where the term applies fully
+    const double e_per_dT = (phi_q * rc_q + phi_w * rc_w) / (phi_q + phi_w);
+    thermal_gamma_ = in.thermal_gamma >= 0.0 ? in.thermal_gamma : p_per_dT / e_per_dT;
+  }
   // The Sjobo reference skeleton at zero strain anchors the shear modulus (G0 = 76.9 MPa).
   const double n_ref = void_.referencePorosity();
   skeleton_ref_compliance_ = n_ref * void_.unloadingCompliance(0.0) + (1.0 - n_ref) * in.quartz.compliance(0.0);
+  lockup_strain_ = std::max(naturalStrain(void_.lockupPressure()), 1e-6);
 }
 
 double SandModel::waterStrain(double p) const {
@@ -207,6 +222,11 @@ std::vector<CurvePoint> SandModel::sampleLoading(int n) const {
   return out;
 }
 
+double SandModel::thermalFactor(double x) const {
+  const double f = x <= 0.0 ? 0.0 : (x >= lockup_strain_ ? 1.0 : x / lockup_strain_);
+  return f * std::exp(std::max(x, 0.0));
+}
+
 SandKeyNumbers SandModel::keyNumbers() const {
   SandKeyNumbers k{};
   const double rho = state_.wet_density;
@@ -230,6 +250,8 @@ SandPointEos::SandPointEos(const SandModel& model, int table_size) {
   if (table_size < 16) throw InputError("table-size", "must be at least 16");
   rho0_ = model.state().wet_density;
   p_cut_ = model.inputs().tension_cutoff;
+  gamma_ = model.thermalGamma();
+  x_lock_ = std::max(model.keyNumbers().lockup_strain, 1e-6);   // as SandModel::thermalFactor
   // Invert the loading curve once: sample it densely in pressure, then read the pressure at
   // each node of a uniform natural-strain grid by interpolation between samples.
   const int m = 40000;

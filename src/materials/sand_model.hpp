@@ -3,6 +3,7 @@
 // moisture give the whole constitutive description through three springs in series (air-void
 // skeleton, quartz, water), the dry Sjobo sand as baseline, and a saturation-dependent
 // strength plateau. SI units throughout: Pa, kg/m3, m/s.
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,9 @@ struct SandInputs {
   double tension_cutoff = kSjoboTensionCutoff;   // Pa (negative)
   double poisson = kSjoboPoisson;                // - for the LS-DYNA card
   PlateauParams plateau{};
+  // Gruneisen coefficient of the sand's energy term (p = C(x) + gamma T(x) rho0 e, LS-DYNA's
+  // *EOS_TABULATED_COMPACTION form). Negative: derived from the constituents (SandModel::thermalGamma).
+  double thermal_gamma = -1.0;   // -
 
   // Users often know the wet (gross) density: rho_d = rho_wet / (1 + w).
   static SandInputs fromWetDensity(double wet_density, double moisture);
@@ -109,6 +113,14 @@ class SandModel {
   double shearModulus(double p) const;         // after loading to p
   double yieldStrength(double p) const;        // bilinear: friction branch, then plateau
   double yieldPlateau() const { return plateau_; }
+  // The energy term p_th = gamma T(x) rho0 e. gamma: the constituents' thermal pressure at equal
+  // temperature and equal pressure (grains and water in series, Reuss-weighted), per unit of the
+  // mixture's energy density: gamma = [sum (phi_k/K_k) G_k rho_k c_k / sum (phi_k/K_k)] / sum phi_k rho_k c_k.
+  // T(x) = f(x) e^x with f rising linearly from 0 (as laid) to 1 where the air voids close: heated
+  // grains in a porous skeleton expand into its voids, so the skeleton carries their thermal
+  // pressure only as the voids close; e^x turns rho0 into the current density.
+  double thermalGamma() const { return thermal_gamma_; }
+  double thermalFactor(double x) const;
   double maxPressure() const { return p_max_; }   // top of the tabulated range
   SandKeyNumbers keyNumbers() const;
   std::vector<CurvePoint> sampleLoading(int n) const;   // geometric in pressure up to maxPressure
@@ -123,6 +135,8 @@ class SandModel {
   VoidSpring void_;
   double water_eta_top_;
   double plateau_;
+  double thermal_gamma_ = 0.0;
+  double lockup_strain_ = 0.0;
   double skeleton_ref_compliance_;
   double p_max_ = 50e9;   // Pa: covers sand driven to quartz density beside a detonating charge
 };
@@ -140,7 +154,20 @@ class SandPointEos {
 
   explicit SandPointEos(const SandModel& model, int table_size = 4096);
 
-  Result evaluate(double x, double x_max) const noexcept {
+  // x: natural strain ln(rho/rho0); x_max: the largest reached; e: specific internal energy, J/kg.
+  Result evaluate(double x, double x_max, double e = 0.0) const noexcept {
+    const Result r = evaluateCompaction(x, x_max);
+    if (!(e > 0.0) || gamma_ == 0.0) return r;
+    // energy term: positive, on top of the compaction pressure (and its cutoff)
+    const double f = x <= 0.0 ? 0.0 : (x >= x_lock_ ? 1.0 : x / x_lock_);
+    const double gt = gamma_ * f * (x > 0.0 ? std::exp(x) : 1.0);
+    const double p_th = gt * rho0_ * e;
+    const double p = r.pressure + p_th;
+    // rho c^2 gains (p / rho) dp/de = p gamma T rho0 / rho
+    return {p, r.bulk_modulus + (p > 0.0 ? p : 0.0) * gt * (x > 0.0 ? std::exp(-x) : 1.0)};
+  }
+
+  Result evaluateCompaction(double x, double x_max) const noexcept {
     const bool loading = x >= x_max;
     const double xl = loading ? x : x_max;
     double s = xl * inv_dx_;
@@ -168,11 +195,13 @@ class SandPointEos {
   }
   double referenceDensity() const { return rho0_; }
   double tensionCutoff() const { return p_cut_; }
+  double thermalGamma() const { return gamma_; }
   double tableTop() const { return dx_ * last_ + dx_; }
 
  private:
   std::vector<double> p_, k_load_, k_unload_, g_;
   double dx_, inv_dx_, rho0_, p_cut_;
+  double gamma_ = 0.0, x_lock_ = 1.0;   // energy term (SandModel::thermalGamma, thermalFactor)
   int last_;
 };
 

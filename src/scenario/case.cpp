@@ -84,7 +84,6 @@ Case buildCase(const Deck& deck) {
   const int up = cs.vertical;
   hydro::SolverOptions o;
   o.cfl = deck.cfl;
-  o.products_adiabat = deck.products_adiabat;
   // low sides: axis or symmetry planes; high sides: outflow; the bottom: rigid ground
   for (auto& b : o.boundary) b = {mesh::BoundaryKind::Reflect, mesh::BoundaryKind::Transmit};
   if (deck.gravity) o.gravity[static_cast<std::size_t>(up)] = -9.81;

@@ -180,7 +180,6 @@ Deck parseDeck(const std::string& text, const std::vector<std::string>& override
   top.num("end_time_s", d.end_time_s);
   range("end_time_s", d.end_time_s, 0.0, 1.0, "s", true);
   top.num("cfl", d.cfl);
-  top.boolean("products_adiabat", d.products_adiabat);
   range("cfl", d.cfl, 0.05, 0.9, "-");
 
   {
@@ -322,7 +321,6 @@ Deck parseDeck(const std::string& text, const std::vector<std::string>& override
   std::stringstream js;
   js << toml::json_formatter{root};
   d.echo = nlohmann::json::parse(js.str());
-  d.echo["products_adiabat"] = d.products_adiabat;   // the model switch, shown even when defaulted
   return d;
 }
 

@@ -81,9 +81,6 @@ struct Deck {
   bool gravity = true;
   double end_time_s = 0.01;
   double cfl = 0.45;
-  // Detonation products keep their adiabat except where compressed (hydro::SolverOptions::
-  // products_adiabat); false is the plain scheme, whose products heat at O(cell size).
-  bool products_adiabat = true;
   OutputSpec output;
   nlohmann::json echo;   // the deck as read, after overrides
 };

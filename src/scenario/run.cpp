@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -23,6 +24,7 @@ namespace fs = std::filesystem;
 
 // Everything the driver accumulates, so that a checkpoint holds it and a restart continues it.
 struct DriverState {
+  double energy_initial = 0.0;   // J in the cells at t = 0 (axisymmetric: per radian)
   double plate_z = 0.0, plate_v = 0.0;
   double impulse = 0.0, peak_force = 0.0;
   bool static_known = false;
@@ -62,7 +64,7 @@ std::vector<std::vector<double>> getTable(std::istream& is) {
 }
 void putState(std::ostream& os, const DriverState& s) {
   putList(os, {s.plate_z, s.plate_v, s.impulse, s.peak_force, s.next_history, static_cast<double>(s.next_profile),
-               static_cast<double>(s.next_field), s.static_known ? 1.0 : 0.0, s.static_force});
+               static_cast<double>(s.next_field), s.static_known ? 1.0 : 0.0, s.static_force, s.energy_initial});
   putList(os, s.impulse_kind);
   putTable(os, s.history);
   putTable(os, s.gauges);
@@ -72,7 +74,8 @@ void putState(std::ostream& os, const DriverState& s) {
 }
 void getState(std::istream& is, DriverState& s) {
   const auto a = getList(is);
-  if (a.size() != 9) throw InputError("restart", "the checkpoint is damaged");
+  if (a.size() != 10) throw InputError("restart", "the checkpoint is damaged");
+  s.energy_initial = a[9];
   s.static_known = a[7] != 0.0;
   s.static_force = a[8];
   s.plate_z = a[0];
@@ -141,6 +144,7 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
   const auto up = static_cast<std::size_t>(cs.vertical);
   DriverState st;
   st.plate_z = cs.plate.z_bottom_m;
+  st.energy_initial = s.totals().total();
   std::vector<std::size_t> gauge_cells;
   for (const auto& p : deck.output.gauges_m) gauge_cells.push_back(cellAt(g, cs.vertical, p[0], p[1]));
   if (!opt.restart.empty()) {
@@ -305,17 +309,34 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
                    {"plate_displacement_m", res.displacement_m},
                    {"end_time_s", s.time()}};
   {
-    // The detonation products' energy budget: what the charge releases, and what the products'
-    // adiabat tracking took out (the scheme's heating of the products; docs/solver.md).
+    // The energy books: nothing enters or leaves but through the boundaries, the target and
+    // gravity, so final = initial + inflow - work on the target + gravity's work, to round-off.
     double e_charge = 0.0;
     for (std::size_t k = 0; k < nmat; ++k)
       if (cs.material_kind[k] == "products") e_charge = deck.charge.mass_kg * s.materials()[k].jwl.e0 / s.materials()[k].jwl.rho0;
-    const double sink = cs.symmetry * s.totals().adiabat_sink;
+    const auto tot = s.totals();
+    const double f = cs.symmetry;
+    const double e0 = f * st.energy_initial, e1 = f * tot.total();
+    const double imbalance = e1 - f * tot.accounted(st.energy_initial);
+    std::map<std::string, std::array<double, 2>> kinds;   // internal, kinetic by material kind
+    for (std::size_t k = 0; k < nmat; ++k) {
+      auto& e = kinds[cs.material_kind[k]];
+      e[0] += f * tot.internal_by_material[k];
+      e[1] += f * tot.kinetic_by_material[k];
+    }
+    nlohmann::json by_kind = nlohmann::json::object();
+    for (const auto& [name, e] : kinds) by_kind[name] = {{"internal_J", e[0]}, {"kinetic_J", e[1]}};
     sum["energy"] = {{"charge_J", e_charge},
-                     {"products_adiabat", deck.products_adiabat},
-                     {"adiabat_sink_J", sink},
-                     {"adiabat_sink_fraction_of_charge", e_charge > 0.0 ? sink / e_charge : 0.0}};
-    res.adiabat_sink_fraction = e_charge > 0.0 ? sink / e_charge : 0.0;
+                     {"initial_J", e0},
+                     {"final_J", e1},
+                     {"work_on_target_J", f * tot.target_work},
+                     {"boundary_flux_J", -f * tot.boundary_in},
+                     {"gravity_work_J", f * tot.gravity_work},
+                     {"imbalance_J", imbalance},
+                     {"imbalance_fraction", e_charge > 0.0 ? imbalance / e_charge : imbalance / std::max(e0, 1e-300)},
+                     {"by_material_J", by_kind},
+                     {"note", "final = initial - boundary_flux (net outflow) - work_on_target + gravity_work; imbalance_fraction is over the charge's energy"}};
+    res.energy_imbalance_fraction = sum["energy"]["imbalance_fraction"].get<double>();
   }
   sum["charge"] = {{"radius_m", cs.charge.radius_m}, {"height_m", cs.charge.height_m}, {"z_top_m", cs.charge.z_top_m},
                    {"z_bottom_m", cs.charge.z_bottom_m}, {"detonation_z_m", cs.charge.detonation_m[1]}};

@@ -29,7 +29,7 @@ struct RunResult {
   long long steps = 0;
   std::size_t cells = 0;
   double wall_s = 0.0;
-  double adiabat_sink_fraction = 0.0;   // energy the products' adiabat took out / the charge's energy
+  double energy_imbalance_fraction = 0.0;   // energy books' imbalance / the charge's energy (round-off)
   // What history.csv and surface_profiles.csv hold, for callers that study many runs.
   std::vector<std::string> history_columns;
   std::vector<std::vector<double>> history;

@@ -34,14 +34,18 @@ void setAll(SolverOptions& o, BoundaryKind k) {
   for (auto& a : o.boundary) a = {k, k};
 }
 
-// Largest relative drift of any material's mass, and of total energy when `closed`.
+// Largest relative drift of any material's mass (when the box is `closed`), and always the
+// energy books' imbalance: what the cells hold against what they started with plus what crossed
+// the boundaries (hydro::EnergyLedger), over the larger of the two totals.
 double drift(const hydro::Totals& a, const hydro::Totals& b, bool closed) {
   double worst = 0.0;
-  for (std::size_t k = 0; k < a.mass.size(); ++k)
-    if (a.mass[k] > 0.0) worst = std::max(worst, std::abs(b.mass[k] - a.mass[k]) / a.mass[k]);
-  if (closed) worst = std::max(worst, std::abs(b.total() - a.total()) / std::abs(a.total()));
-  return worst;
+  if (closed)
+    for (std::size_t k = 0; k < a.mass.size(); ++k)
+      if (a.mass[k] > 0.0) worst = std::max(worst, std::abs(b.mass[k] - a.mass[k]) / a.mass[k]);
+  const double scale = std::max(std::abs(a.total()), std::abs(b.total()));
+  return std::max(worst, std::abs(b.total() - b.accounted(a.total())) / scale);
 }
+constexpr double kBooksLimit = 1e-10;   // every row's conservation column, checked
 
 // Observed orders between consecutive rows of one problem from `first` on; NaN for the coarsest.
 void fillOrders(std::vector<Row>& rows, std::size_t first, const std::string& problem) {
@@ -442,14 +446,12 @@ void jwlDetonation(const std::string& explosive, const std::vector<int>& levels,
 
 // A 40 mm slab of Comp B detonated at a rigid wall and expanding into air (1D): the products should
 // follow the CJ isentrope. Reported: the mass-weighted mean of E / E_s(V) - 1 over the cells of
-// pure products at 100 us (V = 10 to 40). With the plain scheme it is informative: it measures
-// the entropy the burn, the mixed products-air cell and the remap add, which at coarse cells drives
-// the products' late pressure (docs/solver.md). With products_adiabat (what `ejecta run` uses) the
-// products must stay within 5% of the isentrope at every resolution: the check that the tracking
-// holds them on it and puts the energy it takes out in the sink (total energy with the sink is
-// conserved: the conservation column).
-void productsIsentrope(const std::vector<int>& levels, bool adiabat, Report& rep) {
-  const std::string name = adiabat ? "products-isentrope-adiabat" : "products-isentrope";
+// pure products at 100 us (V = 10 to 50): the entropy the burn, the wall, the products-air
+// contact and the remap add, which at coarse cells drives the products' late pressure
+// (docs/solver.md). No tracking of any kind. Informative: the aim (within 5% at 20 cells
+// per slab) is not met yet (docs/solver.md says where the excess sits).
+void productsIsentrope(const std::vector<int>& levels, Report& rep) {
+  const std::string name = "products-isentrope";
   const std::size_t first = rep.rows.size();
   const Material ex = materials::explosive("CompB");
   const materials::JwlIsentrope isentrope(ex.jwl);
@@ -461,7 +463,6 @@ void productsIsentrope(const std::vector<int>& levels, bool adiabat, Report& rep
     setAll(o, BoundaryKind::Transmit);
     o.boundary[0][0] = BoundaryKind::Reflect;
     o.detonation.push_back({{0.0, 0.0, 0.0}, 0.0});
-    o.products_adiabat = adiabat;
     Solver s(Grid(1, Geometry::Cartesian, {Axis::uniform(0.0, L, cells), Axis{}, Axis{}}), {materials::air(), ex}, o);
     s.paint(0, [](const Vec3&) { return true; }, 1.225, gasEnergy(101325.0, 1.225, 1.4));
     s.paint(1, [slab](const Vec3& x) { return x[0] < slab; }, ex.jwl.rho0, ex.jwl.e0 / ex.jwl.rho0, {}, 8);
@@ -486,10 +487,82 @@ void productsIsentrope(const std::vector<int>& levels, bool adiabat, Report& rep
     rep.profiles.push_back(std::move(prof));
     const double err = mass > 0.0 ? excess / mass : kNaN;
     rep.rows.push_back({name, "1D", "mass mean of E/E_s(V) - 1, CompB products at 100 us", n, g.interiorCells(), err, 0.0,
-                        drift(before, after, true), seconds(t0), adiabat ? "|error| <= 5%" : "", !adiabat || std::abs(err) <= 0.05,
-                        s.stats().steps});
+                        drift(before, after, false), seconds(t0), "", false, s.stats().steps});
   }
   fillOrders(rep.rows, first, name);
+}
+
+// A 40 mm slab of Comp B detonated at a rigid wall, driving EMI sand at 22% moisture (1D planar):
+// each material's total energy (internal + kinetic) and the sand's momentum at 20, 50 and 100 us
+// against the same code at 8x finer cells than the finest level. The error is the largest relative
+// difference over the three times; the finest level's observed order must be >= 0.9 (the
+// scheme's first order at shocks and contacts, with nothing that converges by cancellation).
+void chargeInWetSand(const std::vector<int>& levels, Report& rep) {
+  const Material ex = materials::explosive("CompB");
+  const Material sand = materials::sand(materials::SandInputs::fromWetDensity(1370.0 / 1.07 * 1.22, 0.22), "sand");
+  const double slab = 0.04, L = 0.6;
+  const std::vector<double> times{20e-6, 50e-6, 100e-6};
+  struct Sample { double products, sand, momentum; };
+  auto simulate = [&](int n, std::size_t* cells, long long* steps, double* books) {
+    const int nc = static_cast<int>(std::lround(L / slab * n));
+    SolverOptions o;
+    setAll(o, BoundaryKind::Transmit);
+    o.boundary[0][0] = BoundaryKind::Reflect;
+    o.detonation.push_back({{0.0, 0.0, 0.0}, 0.0});
+    Solver s(Grid(1, Geometry::Cartesian, {Axis::uniform(0.0, L, nc), Axis{}, Axis{}}), {ex, sand}, o);
+    s.paint(1, [](const Vec3&) { return true; }, sand.referenceDensity(), 0.0);
+    s.paint(0, [slab](const Vec3& x) { return x[0] < slab; }, ex.jwl.rho0, ex.jwl.e0 / ex.jwl.rho0, {}, 8);
+    const auto before = s.totals();
+    std::vector<Sample> out;
+    for (const double t : times) {
+      s.advanceTo(t);
+      const auto tt = s.totals();
+      out.push_back({tt.internal_by_material[0] + tt.kinetic_by_material[0], tt.internal_by_material[1] + tt.kinetic_by_material[1], 0.0});
+      const Grid& g = s.grid();
+      double mom = 0.0;
+      for (int i = 0; i < g.cells(0); ++i) {
+        const std::size_t c = g.index(i, 0, 0);
+        mom += s.field(1).alpha[c] * s.field(1).rho[c] * g.cellVolume(i, 0, 0) * s.velocity(0)[c];
+      }
+      out.back().momentum = mom;
+    }
+    *cells = s.grid().interiorCells();
+    *steps = s.stats().steps;
+    *books = drift(before, s.totals(), false);
+    return out;
+  };
+  std::size_t cells = 0;
+  long long steps = 0;
+  double books = 0.0;
+  const int ref_n = 8 * levels.back();
+  const auto ref = simulate(ref_n, &cells, &steps, &books);
+  const char* names[] = {"wet-sand-products-energy", "wet-sand-sand-energy", "wet-sand-sand-momentum"};
+  const char* metrics[] = {"max over 20/50/100 us of |E_products - E_ref| / E_ref", "max over 20/50/100 us of |E_sand - E_ref| / E_ref",
+                           "max over 20/50/100 us of |P_sand - P_ref| / P_ref"};
+  std::vector<std::size_t> first(3, rep.rows.size());
+  for (const int n : levels) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto got = simulate(n, &cells, &steps, &books);
+    const double secs = seconds(t0);
+    for (int q = 0; q < 3; ++q) {
+      double err = 0.0;
+      for (std::size_t i = 0; i < times.size(); ++i) {
+        const double a = q == 0 ? got[i].products : (q == 1 ? got[i].sand : got[i].momentum);
+        const double b = q == 0 ? ref[i].products : (q == 1 ? ref[i].sand : ref[i].momentum);
+        err = std::max(err, std::abs(a - b) / std::abs(b));
+      }
+      rep.rows.push_back({names[q], "1D", metrics[q], n, cells, err, 0.0, books, q == 0 ? secs : 0.0,
+                          n == levels.back() ? fmt::format("order >= 0.9 (reference: {} cells per slab)", ref_n) : "", false, steps});
+    }
+  }
+  for (int q = 0; q < 3; ++q) {
+    fillOrders(rep.rows, first[static_cast<std::size_t>(q)], names[q]);
+    for (auto it = rep.rows.rbegin(); it != rep.rows.rend(); ++it)
+      if (it->problem == names[q]) {
+        it->passed = it->order >= 0.9;
+        break;
+      }
+  }
 }
 
 // Position of the last crossing (from the high side of the axis) of `level` by `field`.
@@ -649,12 +722,13 @@ void tntFreeAir(const std::vector<int>& levels, Report& rep) {
 
 }  // namespace
 
+// A row with no check is informative and never counts as a pass.
 bool Report::allPassed() const {
-  return std::all_of(rows.begin(), rows.end(), [](const Row& r) { return r.passed; });
+  return std::all_of(rows.begin(), rows.end(), [](const Row& r) { return r.check.empty() || r.passed; });
 }
 
 std::vector<std::string> problemGroups() {
-  return {"sod", "advection", "sedov", "noh", "interface", "jwl", "products-isentrope", "sand-piston", "steel-precursor", "tnt-free-air"};
+  return {"sod", "advection", "sedov", "noh", "interface", "jwl", "products-isentrope", "wet-sand", "sand-piston", "steel-precursor", "tnt-free-air"};
 }
 
 Report runVerification(const Options& opt) {
@@ -706,12 +780,22 @@ Report runVerification(const Options& opt) {
   }
   if (wanted("products-isentrope")) {
     say("CompB slab expanding into air (1D): products against the CJ isentrope");
-    productsIsentrope({2, 4, 8, 20, 80}, false, rep);
-    productsIsentrope({2, 4, 8, 20, 80}, true, rep);
+    productsIsentrope(q ? std::vector<int>{2, 4, 8, 20} : std::vector<int>{2, 4, 8, 20, 80}, rep);
+  }
+  if (wanted("wet-sand")) {
+    say("CompB slab driving 22% wet sand (1D): each material's energy against 8x finer cells");
+    chargeInWetSand(q ? std::vector<int>{8, 16, 32} : std::vector<int>{8, 16, 32, 64}, rep);
   }
   if (wanted("tnt-free-air")) {
     say("1 kg TNT in free air (2D axisymmetric)");
     tntFreeAir(q ? std::vector<int>{55, 110} : std::vector<int>{55, 110, 220}, rep);
+  }
+  // Every row that ran the solver has its energy books checked: round-off only.
+  for (auto& r : rep.rows) {
+    if (!std::isfinite(r.conservation)) continue;
+    const bool ok = r.conservation <= kBooksLimit;
+    r.passed = (r.check.empty() || r.passed) && ok;
+    r.check += fmt::format("{}books <= {:g}", r.check.empty() ? "" : "; ", kBooksLimit);
   }
   return rep;
 }

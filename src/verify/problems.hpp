@@ -16,10 +16,10 @@ struct Row {
   std::size_t cells = 0;    // cells in the mesh
   double error = 0.0;
   double order = 0.0;       // observed order against the previous (coarser) row; NaN for the first
-  double conservation = 0.0;// largest relative drift of material mass (and total energy where closed)
+  double conservation = 0.0;// energy books' imbalance (and material mass drift where the box is closed); NaN: not a solver run
   double wall_seconds = 0.0;
   std::string check;        // the acceptance criterion, in words ("" where the row is informative only)
-  bool passed = true;
+  bool passed = false;      // meaningful only with a check
   long long steps = 0;      // time steps taken
 };
 

@@ -161,13 +161,12 @@ struct SlabResult {
   double excess = 0.0;
   hydro::Totals before, after;
 };
-SlabResult productsSlab(bool adiabat) {
+SlabResult productsSlab() {
   auto o = allBoundaries(BoundaryKind::Transmit);
   o.boundary[0][0] = BoundaryKind::Reflect;
   o.detonation.push_back({{0.0, 0.0, 0.0}, 0.0});
-  o.products_adiabat = adiabat;
   const auto ex = materials::explosive("CompB");
-  hydro::Solver s(mesh::Grid(1, mesh::Geometry::Cartesian, {Axis::uniform(0.0, 1.0, 200), Axis{}, Axis{}}), {materials::air(), ex}, o);
+  hydro::Solver s(mesh::Grid(1, mesh::Geometry::Cartesian, {Axis::uniform(0.0, 0.25, 50), Axis{}, Axis{}}), {materials::air(), ex}, o);
   s.paint(0, [](const Vec3&) { return true; }, 1.225, 101325.0 / (0.4 * 1.225));
   s.paint(1, [](const Vec3& x) { return x[0] < 0.04; }, ex.jwl.rho0, ex.jwl.e0 / ex.jwl.rho0, {}, 8);
   SlabResult r;
@@ -176,7 +175,7 @@ SlabResult productsSlab(bool adiabat) {
   r.after = s.totals();
   const materials::JwlIsentrope isentrope(ex.jwl);
   double m = 0.0;
-  for (int i = 0; i < 200; ++i) {
+  for (int i = 0; i < 50; ++i) {
     const auto c = s.grid().index(i, 0, 0);
     const auto& F = s.field(1);
     if (F.alpha[c] < 0.99) continue;
@@ -188,14 +187,13 @@ SlabResult productsSlab(bool adiabat) {
   return r;
 }
 
-TEST(Solver, ProductsAdiabatHoldsExpandingProductsOnTheCjIsentrope) {
-  const auto plain = productsSlab(false), tracked = productsSlab(true);
-  EXPECT_GT(plain.excess, 0.2);                // the scheme's heating, which the tracking removes
-  EXPECT_LT(std::abs(tracked.excess), 0.02);
-  EXPECT_EQ(plain.after.adiabat_sink, 0.0);
-  EXPECT_GT(tracked.after.adiabat_sink, 0.0);  // energy taken out of the products...
-  EXPECT_NEAR(tracked.after.total() / tracked.before.total(), 1.0, 1e-12);   // ...and accounted for
-  EXPECT_NEAR(plain.after.total() / plain.before.total(), 1.0, 1e-12);
+TEST(Solver, EnergyBooksCloseWithOpenBoundaries) {
+  // Detonation, products into air, air leaving through the open end: no energy is set aside;
+  // what the cells hold is what they started with plus what crossed the boundary.
+  const auto r = productsSlab();
+  EXPECT_LT(r.after.boundary_in, 0.0);   // the air shock has left through the open end
+  EXPECT_NEAR(r.after.total(), r.after.accounted(r.before.total()), 1e-12 * r.before.total());
+  EXPECT_LT(std::abs(r.excess), 0.6);    // the products' entropy at 8 cells per slab (docs/solver.md)
 }
 
 TEST(Verify, SandPistonShockMatchesTheCurveJump) {

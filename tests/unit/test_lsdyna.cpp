@@ -44,6 +44,7 @@ TEST(Lsdyna, CardOrderAndWidths) {
   for (std::size_t i = 1; i < eos.size(); ++i) EXPECT_EQ(eos[i].size(), 80u) << eos[i];   // 5 x 16
   EXPECT_EQ(io::cardField(mat[0], 0, 10), 7.0);
   EXPECT_EQ(io::cardField(eos[0], 0, 10), 9.0);
+  EXPECT_NEAR(io::cardField(eos[0], 1, 10), m.thermalGamma(), 1e-4);   // GAMA of the energy term
 }
 
 TEST(Lsdyna, ReadBackMatchesTheModel) {
@@ -81,7 +82,7 @@ TEST(Lsdyna, ReadBackMatchesTheModel) {
       const double p_model = m.pressureAtNaturalStrain(-ev);
       EXPECT_NEAR(c, p_model, 1e-4 * p_model + 1.0) << units << " point " << i;
       EXPECT_NEAR(k, m.unloadingModulus(p_model), 1e-4 * k) << units;
-      EXPECT_EQ(t, 0.0);
+      EXPECT_NEAR(t, m.thermalFactor(-ev), 1e-5 * (1.0 + t));   // the energy term's T(ev)
       lockup_listed = lockup_listed || std::abs(-ev - x_lock) < 0.01;
     }
     EXPECT_TRUE(lockup_listed) << "lockup point must be in the table";

@@ -62,7 +62,7 @@ json outcome(const scenario::ValidationCase& c, double impulse) {
   r.profile_r_m = {0.0, 0.1};
   r.profile_times_s = {1e-3};
   r.profiles_m = {{0.05, std::nan("")}};
-  r.adiabat_sink_fraction = 0.125;
+  r.energy_imbalance_fraction = 1.25e-13;
   return scenario::condenseOutcome(c, r, 100);
 }
 
@@ -85,7 +85,12 @@ TEST(ValidationReport, StudiesComputeSpreadTrendsAndChangesFromTheResults) {
   EXPECT_NEAR(mesh.at("checks")[0].at("value").get<double>(), 2.0, 1e-9);
   EXPECT_TRUE(mesh.at("checks")[0].at("pass").get<bool>());
   EXPECT_NEAR(mesh.at("plot").at("mean_Ns").get<double>(), 5000.0, 1e-9);
-  EXPECT_EQ(mesh.at("table").at("rows")[1][8], "12.5%");   // the products' adiabat sink, % of the charge
+  EXPECT_EQ(mesh.at("table").at("rows")[1][8], "1.2e-13");   // the energy books' imbalance over the charge's energy
+  // each material's share is judged too: here the parts scale with the total, 2% each
+  ASSERT_EQ(mesh.at("checks").size(), 3u);
+  EXPECT_NEAR(mesh.at("checks")[1].at("value").get<double>(), 2.0, 1e-9);
+  EXPECT_NEAR(mesh.at("checks")[2].at("value").get<double>(), 2.0, 1e-9);
+  EXPECT_TRUE(mesh.at("checks")[2].at("pass").get<bool>());
   // moisture: 7% -> 22% rises by 5% although 14% -> 22% falls
   const auto moist = section("moisture");
   EXPECT_NEAR(moist.at("checks")[0].at("value").get<double>(), 5.0, 1e-9);

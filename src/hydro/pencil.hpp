@@ -1,0 +1,112 @@
+#pragma once
+// The kernels of one directional sweep, each on one pencil (a 1D line of cells along the sweep
+// axis, ghosts included), in the order the solver calls them:
+//   gather (Solver)  ->  computeSlopes  ->  solveFaces  ->  lagrangeUpdate (closeMixedCell per
+//   mixed cell)  ->  remapFluxes  ->  scatter (Solver).
+// They see flat arrays only: no files, no MPI, no mesh. Every joule they move is booked: what
+// crosses the pencil's two end faces (`PencilLedger::boundary_in`), the work done on a moving
+// wall (`target_work`), and gravity's work (`gravity_work`).
+#include <array>
+#include <cstddef>
+#include <vector>
+
+namespace ejecta::hydro {
+
+inline constexpr double kAlphaMin = 1e-8;      // below this a material is a fragment: it rides along
+inline constexpr double kPureCell = 1.0 - 1e-9;
+inline constexpr int kMaxMaterials = 8;
+
+// Per-thread scratch of one pencil. Per-material arrays are [k * N + i] (cells) or
+// [k * (N + 1) + f] (faces); face f lies between cells f - 1 and f.
+struct Pencil {
+  int n = 0, N = 0, M = 0;   // interior cells, cells with ghosts, materials
+  bool radial = false;       // axisymmetric r-sweep: swept volumes are annuli
+  double ring_width = 0.0;   // axisymmetric r-sweep: the cell's z width
+  std::vector<double> vol, area;
+  std::array<std::vector<double>, 3> u;   // velocity components (global axes)
+  std::vector<double> rho, P, K, Z, hoop;
+  std::array<std::vector<double>, 2> shear;   // mixture s_{d,t} for the two transverse axes
+  std::vector<double> a, r, e, h, pk, kk, wl;   // per material: alpha, rho, e, history, p, rho c^2, WLIC weight
+  std::array<std::vector<double>, 6> s;
+  // faces
+  std::vector<double> ustar, pstar, dvol;
+  // Lagrangian cells
+  std::vector<double> vlag, mass, ke;
+  std::array<std::vector<double>, 3> mom;
+  std::vector<double> vk, mk, iek;
+  // remap fluxes at faces (signed, + along the axis)
+  std::vector<double> fv, fm, fe, fh, fkek;   // per material: volume, mass, internal energy, history, kinetic energy
+  std::array<std::vector<double>, 6> fs;
+  std::array<std::vector<double>, 3> fmom;
+  std::vector<double> su, sp;   // limited slopes of normal velocity and normal stress
+  std::vector<unsigned char> solid;
+
+  void resize(int cells, int materials);
+  std::size_t at(int k, int i) const { return static_cast<std::size_t>(k * N + i); }
+  std::size_t atFace(int k, int f) const { return static_cast<std::size_t>(k * (N + 1) + f); }
+};
+
+// What one sweep needs besides the pencil: the axis, the step, the line's geometry (the same
+// for every pencil: centres, widths, faces, inverse centre spacings) and the moving wall.
+struct SweepSetup {
+  int d = 0, t1 = 1, t2 = 2;   // sweep axis and the two transverse axes
+  double dt = 0.0;             // s
+  bool second_order = true;
+  double thinc_beta = 3.5;
+  double gravity = 0.0;        // m/s2 along d
+  std::array<double, 3> wall_velocity{};   // m/s, the body's
+  double friction = 0.0;       // - Coulomb coefficient at the body's faces
+  const double* xc = nullptr;  // [N]
+  const double* width = nullptr;   // [N]
+  const double* xf = nullptr;  // [N + 1]
+  const double* inv_dx = nullptr;  // [N], 1 / (xc[i] - xc[i-1])
+};
+
+// Energy booked by one pencil in one sweep, J (axisymmetric: per radian).
+struct PencilLedger {
+  double boundary_in = 0.0;    // across the pencil's two end faces, into the block
+  double target_work = 0.0;    // done by the flow on the moving body
+  double gravity_work = 0.0;   // done by gravity on the flow
+  double impulse_on_body[kMaxMaterials] = {};   // N s along d, by material beside the face
+};
+
+// van Leer-limited slopes of the normal velocity and normal stress (first order beside a body).
+void computeSlopes(Pencil& P, const SweepSetup& S);
+
+// Acoustic Riemann problem (Z = rho c) with MUSCL-Hancock states at faces 1 .. N-1: face
+// velocity u*, normal stress p*, swept volume. A face beside the body is a wall moving with it:
+// the flow's half of the Riemann problem, no swept volume; its load goes to `ledger`.
+void solveFaces(Pencil& P, const SweepSetup& S, PencilLedger& ledger);
+
+// Lagrange phase of cells 1 .. N-2: momentum and total energy in flux form, volumes moved,
+// the volume change and heat shared among materials (closeMixedCell).
+void lagrangeUpdate(Pencil& P, const SweepSetup& S, PencilLedger& ledger);
+
+// One mixed cell's closure after the Lagrange phase. In: each material's alpha, pressure,
+// rho c^2, mass, internal energy (J) before, the cell's volumes before (V) and after (Vl), and
+// the cell's internal energy change `die` (J). Out: each material's volume and internal energy.
+//  1. The volume change is shared by compressibility alpha_k / (rho_k c_k^2) (equal pressure
+//     increments); each material does p_k dV_k at its own pressure.
+//  2. Materials at unequal pressures exchange volume towards the linearised common pressure;
+//     each works at its own pressure, and what the expanding ones give beyond that goes as heat
+//     to the ones compressed by it (the compressed material is worked at the pushing pressure).
+//  3. The rest of `die` (the Riemann solver's dissipation, shear work) goes to the materials in
+//     proportion to their compression in this step (by compressibility where none was compressed);
+//     a loss is taken in proportion to internal energy. Total energy is exact.
+struct MixedCell {
+  int M = 0;
+  double alpha[kMaxMaterials], p[kMaxMaterials], K[kMaxMaterials], m[kMaxMaterials], ie[kMaxMaterials];
+  double v[kMaxMaterials];   // out: volumes, summing to Vl
+};
+void closeMixedCell(MixedCell& c, double V, double Vl, double die);
+
+// Remap fluxes through faces g .. g+n: each material's volume (THINC profile weighted by the
+// interface orientation), mass, energy, history and stress at donor values (limited slopes in
+// pure regions), momentum with limited slopes, and each material's kinetic energy.
+void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger);
+
+// Fraction of the donor's volume that is material k and leaves through the face, for a swept
+// fraction b of the donor, from a THINC (tanh) profile (Xiao, Honma & Kono 2005).
+double thincOutflow(double a, double a_lo, double a_hi, double b, bool out_high, double beta);
+
+}  // namespace ejecta::hydro
