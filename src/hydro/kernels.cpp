@@ -56,6 +56,17 @@ double thincOutflow(double a, double a_lo, double a_hi, double b, bool out_high,
   return std::clamp(f, lo_cap, hi_cap);
 }
 
+void shareHeat(int M, const double* mass, const double* loss, double heat, double* add) {
+  double m = 0.0, given = 0.0;
+  for (int k = 0; k < M; ++k) m += mass[k];
+  for (int k = 0; k < M; ++k) {
+    add[k] = heat > 0.0 && m > 0.0 ? std::min(std::max(loss[k], 0.0), 2.0 * heat * mass[k] / m) : 0.0;
+    given += add[k];
+  }
+  if (m > 0.0)
+    for (int k = 0; k < M; ++k) add[k] += (heat - given) * mass[k] / m;
+}
+
 // ------------------------------------------------------------------------------------------------
 
 void computeSlopes(Pencil& P, const SweepSetup& S) {

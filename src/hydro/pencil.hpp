@@ -105,6 +105,12 @@ void closeMixedCell(MixedCell& c, double V, double Vl, double die);
 // pure regions), momentum with limited slopes, and each material's kinetic energy.
 void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger);
 
+// Kinetic energy that a remap (or a rezone) took from the flow, returned as heat: `heat` in all
+// (sum of `loss` plus anything else to place), to each material as it lost it, but never more
+// than twice the cell's mean heat per unit mass (a sliver whose in- and outflow nearly cancel
+// has an ill-defined loss); what that leaves goes by mass. `add[k]` sums to `heat` exactly.
+void shareHeat(int M, const double* mass, const double* loss, double heat, double* add);
+
 // Fraction of the donor's volume that is material k and leaves through the face, for a swept
 // fraction b of the donor, from a THINC (tanh) profile (Xiao, Honma & Kono 2005).
 double thincOutflow(double a, double a_lo, double a_hi, double b, bool out_high, double beta);

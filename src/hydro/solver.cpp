@@ -594,17 +594,13 @@ std::size_t Solver::scatterPencil(const Pencil& P, int d, std::size_t base) {
       mom[q] = P.mom[q][si] + P.fmom[q][si] - P.fmom[q][si + 1];
       u2 += mom[q] * mom[q] / (m * m);
     }
-    // The kinetic energy the remap took from the flow is returned as heat, to each material as
-    // it lost it (its fluxes' kinetic energy against its share of the new), but never more than
-    // twice the cell's mean heat per unit mass (a sliver whose in- and outflow nearly cancel has
-    // an ill-defined loss); what that leaves goes by mass.
-    double heat = lost, given = 0.0, gift[kMaxMaterials];
-    for (int k = 0; k < M; ++k) heat += ke_in[k] - 0.5 * mk_new[k] * u2;
+    // The kinetic energy the remap took from the flow is returned as heat, by material.
+    double heat = lost, loss[kMaxMaterials], add[kMaxMaterials];
     for (int k = 0; k < M; ++k) {
-      const double loss = ke_in[k] - 0.5 * mk_new[k] * u2;
-      gift[k] = heat > 0.0 && m > 0.0 ? std::min(std::max(loss, 0.0), 2.0 * heat * mk_new[k] / m) : 0.0;
-      given += gift[k];
+      loss[k] = ke_in[k] - 0.5 * mk_new[k] * u2;
+      heat += loss[k];
     }
+    shareHeat(M, mk_new, loss, heat, add);
     const double V = P.vol[si];
     bool ok = m > 0.0 && std::isfinite(m);
     for (int k = 0; k < M; ++k) {
@@ -621,7 +617,7 @@ std::size_t Solver::scatterPencil(const Pencil& P, int d, std::size_t base) {
       const double al = vk_new[k] / vs;
       F.alpha[c] = al;
       F.rho[c] = mk_new[k] / (al * V);
-      F.e[c] = (ie_new[k] + gift[k] + (heat - given) * mk_new[k] / m) / mk_new[k];
+      F.e[c] = (ie_new[k] + add[k]) / mk_new[k];
       F.h0[c] = (P.h[ki] * P.mk[ki] + P.fh[kf] - P.fh[kf + 1]) / mk_new[k];
       if (!F.s[0].empty())
         for (std::size_t q = 0; q < 6; ++q) F.s[q][c] = (P.s[q][ki] * P.mk[ki] + P.fs[q][kf] - P.fs[q][kf + 1]) / mk_new[k];
@@ -749,6 +745,50 @@ void Solver::step(double dt) {
   ++step_;
   stats_.steps = step_;
   stats_.cell_updates += static_cast<double>(grid_.interiorCells());
+}
+
+void Solver::startAt(double t, const EnergyLedger& booked) {
+  time_ = t;
+  last_dt_ = 0.0;
+  energy_.boundary_in += booked.boundary_in;
+  energy_.target_work += booked.target_work;
+  energy_.gravity_work += booked.gravity_work;
+}
+
+Vec3 Solver::bodyLoad() const {
+  Vec3 f{};
+  if (body_.empty()) return f;
+  for (int i = 0; i < grid_.cells(0); ++i)
+    for (int j = 0; j < grid_.cells(1); ++j)
+      for (int k = 0; k < grid_.cells(2); ++k) {
+        const std::size_t c = grid_.index(i, j, k);
+        if (!body_[c]) continue;
+        for (int d = 0; d < grid_.dims(); ++d)
+          for (int side = 0; side < 2; ++side) {
+            int idx[3] = {i, j, k};
+            idx[d] += side == 0 ? -1 : 1;
+            if (idx[d] < 0 || idx[d] >= grid_.cells(d)) continue;   // as the sweep: a ghost neighbour is the boundary's
+            const std::size_t nb = grid_.index(idx[0], idx[1], idx[2]);
+            if (body_[nb]) continue;
+            double rho = 0.0, p = 0.0, kv = 0.0, snn = 0.0;
+            for (std::size_t q = 0; q < mats_.size(); ++q) {
+              const auto& F = fields_[q];
+              if (F.alpha[nb] <= 0.0) continue;
+              const auto st = materials::evaluateEos(mats_[q], F.rho[nb], F.e[nb], F.h0[nb]);
+              rho += F.alpha[nb] * F.rho[nb];
+              p += F.alpha[nb] * st.pressure;
+              kv += F.alpha[nb] * st.bulk;
+              if (!F.s[0].empty()) snn += F.alpha[nb] * F.s[static_cast<std::size_t>(d)][nb];
+            }
+            const double z = std::sqrt(std::max(rho * kv, 1e-30));
+            const double un = u_[static_cast<std::size_t>(d)][nb], uw = body_velocity_[static_cast<std::size_t>(d)];
+            // fluid below the body (side 0) pushes it up the axis; above, down
+            const double ps = side == 0 ? (p - snn) + z * (un - uw) : (p - snn) + z * (uw - un);
+            const double area = side == 0 ? grid_.faceArea(d, i, j, k) : grid_.faceArea(d, idx[0], idx[1], idx[2]);
+            f[static_cast<std::size_t>(d)] += (side == 0 ? 1.0 : -1.0) * ps * area;
+          }
+      }
+  return f;
 }
 
 void Solver::advanceTo(double t_end, const std::function<void(const Solver&)>& on_step) {

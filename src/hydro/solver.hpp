@@ -117,6 +117,9 @@ class Solver {
   // Impulse given to the body during the last step, N s (axisymmetric: per radian), in total and
   // by material (the material of the flow cell beside each face, by volume fraction).
   const Vec3& lastBodyImpulse() const { return body_impulse_; }
+  // The force (N; axisymmetric: per radian) the flow exerts on the body in the current state: the
+  // same wall Riemann problem as a step's faces, without stepping (the load at rest, before any wave).
+  Vec3 bodyLoad() const;
   const std::vector<Vec3>& lastBodyImpulseByMaterial() const { return body_impulse_mat_; }
 
   // --- checkpoints: the whole state, bit for bit ------------------------------------------------
@@ -129,6 +132,9 @@ class Solver {
   // the message when the step collapses.
   std::string describeLimitingCell() const;
   void step(double dt);                  // one full step (all sweeps); throws RunError on blow-up
+  // Continues from a state mapped in from another run (hydro/rezone.hpp): the clock starts at t and
+  // the energy books carry what that run booked, so they close over both.
+  void startAt(double t, const EnergyLedger& booked);
   // Steps until `t_end`; `on_step` (optional) runs after every step.
   void advanceTo(double t_end, const std::function<void(const Solver&)>& on_step = {});
 

@@ -1,5 +1,6 @@
 #include "scenario/case.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -44,15 +45,19 @@ materials::SandInputs sandInputs(double wet, double dry, double moisture, const 
 }
 }  // namespace
 
-Case buildCase(const Deck& deck) {
+Case buildCase(const Deck& deck, const FineBlock* block) {
   const auto& m = deck.mesh;
-  const double h = m.cell_size_m;
-  const mesh::Axis r_axis = mesh::Axis::graded(0.0, m.domain_radius_m, 0.0, m.core_radius_m, h, m.grading);
+  const double h = block ? block->cell_size_m : m.cell_size_m;
+  auto cellsOver = [h](double span) { return std::max(1, static_cast<int>(std::lround(span / h))); };
+  const mesh::Axis r_axis = block ? mesh::Axis::uniform(0.0, block->r_max_m, cellsOver(block->r_max_m))
+                                  : mesh::Axis::graded(0.0, m.domain_radius_m, 0.0, m.core_radius_m, h, m.grading);
   // the soil surface (z = 0), where a plate at zero standoff rests, is a face at every cell size
-  const mesh::Axis z_axis = mesh::Axis::graded(m.domain_bottom_m, m.domain_top_m, m.core_bottom_m, m.core_top_m, h, m.grading, 0.0);
+  const mesh::Axis z_axis = block ? mesh::Axis::uniform(block->z_lo_m, block->z_hi_m, cellsOver(block->z_hi_m - block->z_lo_m))
+                                  : mesh::Axis::graded(m.domain_bottom_m, m.domain_top_m, m.core_bottom_m, m.core_top_m, h, m.grading, 0.0);
   Case cs;
   cs.charge = chargeGeometry(deck.charge);
-  if (cs.charge.radius_m > m.core_radius_m || cs.charge.z_bottom_m < m.core_bottom_m)
+  const double r_in = block ? block->r_max_m : m.core_radius_m, z_in = block ? block->z_lo_m : m.core_bottom_m;
+  if (cs.charge.radius_m > r_in || cs.charge.z_bottom_m < z_in)
     throw InputError("charge", fmt::format("the charge (radius {:.3f} m, bottom at z = {:.3f} m) must lie inside the uniform mesh core",
                                            cs.charge.radius_m, cs.charge.z_bottom_m));
 
@@ -86,6 +91,7 @@ Case buildCase(const Deck& deck) {
   o.cfl = deck.cfl;
   // low sides: axis or symmetry planes; high sides: outflow; the bottom: rigid ground
   for (auto& b : o.boundary) b = {mesh::BoundaryKind::Reflect, mesh::BoundaryKind::Transmit};
+  if (block) o.boundary[static_cast<std::size_t>(up)][0] = mesh::BoundaryKind::Transmit;   // a cut through the soil, not the ground
   if (deck.gravity) o.gravity[static_cast<std::size_t>(up)] = -9.81;
   hydro::Vec3 det{0.0, 0.0, 0.0};
   det[static_cast<std::size_t>(up)] = cs.charge.detonation_m[1];

@@ -30,7 +30,14 @@ struct Case {
   PlateGeometry plate;
 };
 
-Case buildCase(const Deck& deck);
+// A uniform block of the r-z plane meshed on its own (the early-time fine run): [0, r_max] x
+// [z_lo, z_hi] with cells of `cell_size_m`; its cut sides let waves out.
+struct FineBlock {
+  double r_max_m = 0.0, z_lo_m = 0.0, z_hi_m = 0.0, cell_size_m = 0.0;
+};
+
+// The deck's case on its graded mesh, or (with `block`) on that block alone.
+Case buildCase(const Deck& deck, const FineBlock* block = nullptr);
 ChargeGeometry chargeGeometry(const ChargeSpec& c);
 
 }  // namespace ejecta::scenario

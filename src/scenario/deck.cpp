@@ -244,6 +244,20 @@ Deck parseDeck(const std::string& text, const std::vector<std::string>& override
     oneOf("charge.detonation", c.detonation, {"bottom", "centre", "top"});
   }
   {
+    Reader r(top.sub("early"), "early");
+    auto& e = d.early;
+    r.boolean("enabled", e.enabled);
+    r.num("cells_per_charge_height", e.cells_per_charge_height);
+    r.num("map_time_s", e.map_time_s);
+    r.num("signal_speed_m_s", e.signal_speed_m_s);
+    r.num("block_margin_m", e.block_margin_m);
+    r.finish();
+    range("early.cells_per_charge_height", e.cells_per_charge_height, 4.0, 200.0, "-");
+    range("early.map_time_s", e.map_time_s, 0.0, 1e-3, "s");
+    range("early.signal_speed_m_s", e.signal_speed_m_s, 1000.0, 20000.0, "m/s");
+    range("early.block_margin_m", e.block_margin_m, 0.01, 2.0, "m");
+  }
+  {
     Reader r(top.sub("air"), "air");
     r.num("pressure_pa", d.air_pressure_pa);
     r.num("density_kg_m3", d.air_density_kg_m3);

@@ -58,6 +58,16 @@ struct TargetSpec {
   double apex_angle_deg = 120.0;      // V: angle between its two wings (180 = flat), degrees
 };
 
+// The early-time detonation on a fine mesh (a nested block around the charge), mapped onto the
+// run's mesh conservatively per material before any wave leaves the block (hydro/rezone.hpp).
+struct EarlySpec {
+  bool enabled = true;                   // used where the run's cells are coarser than the charge needs
+  double cells_per_charge_height = 20.0; // - the fine block's resolution
+  double map_time_s = 0.0;               // s; 0: as late as the block allows
+  double signal_speed_m_s = 6000.0;      // m/s, the fastest wave the block must hold by the map time
+  double block_margin_m = 0.25;          // m, the block's reach past the charge (clipped to the uniform core)
+};
+
 struct OutputSpec {
   double history_interval_s = 1e-5;
   std::vector<double> profile_times_s{0.5e-3, 1e-3, 2e-3, 4e-3};
@@ -81,6 +91,7 @@ struct Deck {
   bool gravity = true;
   double end_time_s = 0.01;
   double cfl = 0.45;
+  EarlySpec early;
   OutputSpec output;
   nlohmann::json echo;   // the deck as read, after overrides
 };

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <map>
 #include <sstream>
 
@@ -16,6 +17,7 @@
 #include "ejecta/build_info.hpp"
 #include "io/subprocess.hpp"
 #include "io/vtk.hpp"
+#include "hydro/rezone.hpp"
 #include "scenario/case.hpp"
 
 namespace ejecta::scenario {
@@ -125,6 +127,51 @@ std::size_t cellAt(const mesh::Grid& g, int up, double r, double z) {
   return up == 1 ? g.index(find(0, r), find(1, z), 0) : g.index(find(0, r), 0, find(2, z));
 }
 
+// The early-time fine block for this deck on this run mesh, or nothing where the run's own cells
+// resolve the charge (or the case is 3D: the 2D-to-3D mapping is the V-plate work's). The block is
+// whole cells of the run's uniform core around the charge, so the meshes nest; the map time is
+// when the fastest wave (early.signal_speed_m_s) could first reach the block's nearest cut side.
+struct EarlyPlan {
+  FineBlock block;
+  int ratio = 1;          // run cells per fine cell along each axis
+  double map_time_s = 0.0;
+  double burn_time_s = 0.0;
+};
+std::optional<EarlyPlan> planEarly(const Deck& deck, const Case& cs) {
+  const auto& e = deck.early;
+  const double h = deck.mesh.cell_size_m, H = cs.charge.height_m;
+  if (!e.enabled || cs.vertical != 1 || h * e.cells_per_charge_height <= H * (1.0 + 1e-9)) return std::nullopt;
+  EarlyPlan p;
+  p.ratio = static_cast<int>(std::ceil(h * e.cells_per_charge_height / H - 1e-9));
+  p.block.cell_size_m = h / p.ratio;
+  const auto& g = cs.solver->grid();
+  // the uniform core's faces along axis d: the run of cells of width h around x
+  auto core = [&](int d, double x) {
+    const auto& f = g.axis(d).faces();
+    int i = static_cast<int>(std::upper_bound(f.begin(), f.end(), x) - f.begin()) - 1;
+    i = std::clamp(i, 0, g.cells(d) - 1);
+    auto uniform = [&](int c) { return c >= 0 && c < g.cells(d) && std::abs(f[static_cast<std::size_t>(c) + 1] - f[static_cast<std::size_t>(c)] - h) < 1e-9 * h; };
+    int lo = i, hi = i;
+    while (uniform(lo - 1)) --lo;
+    while (uniform(hi + 1)) ++hi;
+    return std::vector<double>(f.begin() + lo, f.begin() + hi + 2);
+  };
+  const auto& ch = cs.charge;
+  const auto rf = core(0, 0.5 * ch.radius_m), zf = core(1, 0.5 * (ch.z_top_m + ch.z_bottom_m));
+  auto firstAtOrAbove = [](const std::vector<double>& f, double x) { const auto it = std::lower_bound(f.begin(), f.end(), x - 1e-12); return it == f.end() ? f.back() : *it; };
+  auto lastAtOrBelow = [](const std::vector<double>& f, double x) { auto it = std::upper_bound(f.begin(), f.end(), x + 1e-12); return it == f.begin() ? f.front() : *(it - 1); };
+  p.block.r_max_m = firstAtOrAbove(rf, ch.radius_m + e.block_margin_m);
+  p.block.z_lo_m = lastAtOrBelow(zf, ch.z_bottom_m - e.block_margin_m);
+  p.block.z_hi_m = firstAtOrAbove(zf, ch.z_top_m + e.block_margin_m);
+  const double reach = std::min({p.block.r_max_m - ch.radius_m, ch.z_bottom_m - p.block.z_lo_m, p.block.z_hi_m - ch.z_top_m});
+  if (!(reach > 0.0)) return std::nullopt;
+  const auto ex = materials::explosive(deck.charge.explosive).jwl;
+  p.burn_time_s = std::hypot(ch.radius_m, ch.height_m) / ex.d_cj;
+  const double t_block = reach / e.signal_speed_m_s;
+  p.map_time_s = e.map_time_s > 0.0 ? std::min(e.map_time_s, t_block) : t_block;
+  return p;
+}
+
 std::string csvRow(const std::vector<double>& v) {
   std::string s;
   for (std::size_t i = 0; i < v.size(); ++i) s += fmt::format("{}{:.9g}", i ? "," : "", v[i]);
@@ -145,6 +192,7 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
   DriverState st;
   st.plate_z = cs.plate.z_bottom_m;
   st.energy_initial = s.totals().total();
+  const double static_run = cs.plate.present ? cs.symmetry * s.bodyLoad()[up] : 0.0;   // N, the load at rest
   std::vector<std::size_t> gauge_cells;
   for (const auto& p : deck.output.gauges_m) gauge_cells.push_back(cellAt(g, cs.vertical, p[0], p[1]));
   if (!opt.restart.empty()) {
@@ -185,6 +233,72 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
   };
   if (s.time() == 0.0) record();
 
+  // ---- the early time: the detonation and first expansion on a fine block, mapped onto the run mesh
+  nlohmann::json early_json = {{"enabled", deck.early.enabled}, {"used", false}};
+  if (const auto plan = opt.restart.empty() ? planEarly(deck, cs) : std::nullopt) {
+    const auto t_early0 = std::chrono::steady_clock::now();
+    Case fine = buildCase(deck, &plan->block);
+    auto& fs_ = *fine.solver;
+    const auto& fg = fs_.grid();
+    say(fmt::format("early time: fine block r <= {:.3f} m, z {:.3f} to {:.3f} m, {} x {} cells of {:.3g} mm ({:.1f} per charge height), to t = {:.3g} us",
+                    plan->block.r_max_m, plan->block.z_lo_m, plan->block.z_hi_m, fg.cells(0), fg.cells(1), 1e3 * plan->block.cell_size_m,
+                    cs.charge.height_m / plan->block.cell_size_m, 1e6 * plan->map_time_s));
+    const double e_fine0 = fs_.totals().total();
+    // the load at rest on the part of the target inside the block (the rest is undisturbed)
+    const double static_fine = cs.plate.present ? cs.symmetry * fs_.bodyLoad()[up] : 0.0;
+    auto last = std::chrono::steady_clock::now();
+    while (fs_.time() < plan->map_time_s * (1.0 - 1e-12)) {
+      double dt = fs_.stableTimeStep();
+      dt = fs_.lastDt() > 0.0 ? std::min(dt, 1.2 * fs_.lastDt()) : 0.1 * dt;
+      dt = std::min(dt, plan->map_time_s - fs_.time());
+      if (!(dt > 1e-15)) throw RunError(fmt::format("early time: time step collapsed to {:g} s at t = {:.6g} s; {}", dt, fs_.time(), fs_.describeLimitingCell()));
+      hydro::Vec3 vb{0.0, 0.0, 0.0};
+      vb[up] = st.plate_v;
+      fs_.setBodyVelocity(vb);
+      fs_.step(dt);
+      const double iz = cs.symmetry * fs_.lastBodyImpulse()[up] - static_fine * dt;
+      st.impulse += iz;
+      if (cs.plate.present)
+        for (std::size_t k = 0; k < nmat; ++k) st.impulse_kind[static_cast<std::size_t>(kindIndex(k))] += cs.symmetry * fs_.lastBodyImpulseByMaterial()[k][up];
+      st.impulse_kind[0] -= static_fine * dt;
+      st.peak_force = std::max(st.peak_force, std::abs(iz / dt));
+      if (free_plate) {
+        st.plate_v += iz / deck.target.mass_kg - g_acc * dt;
+        st.plate_z += st.plate_v * dt;
+      }
+      const auto now = std::chrono::steady_clock::now();
+      if (opt.progress && std::chrono::duration<double>(now - last).count() > 2.0) {
+        last = now;
+        std::fprintf(stderr, "early time (fine block, %.3g mm): t = %.4g us / %.4g us, step %lld, %zu cells\n", 1e3 * plan->block.cell_size_m,
+                     fs_.time() * 1e6, plan->map_time_s * 1e6, static_cast<long long>(fs_.stats().steps), fg.interiorCells());
+      }
+    }
+    const auto fine_tot = fs_.totals();
+    const auto rz = hydro::mapNested(fs_, s);
+    s.startAt(fs_.time(), fs_.energyLedger());
+    // the initial energy as the fine run painted the block: the books then close over both runs
+    st.energy_initial = s.totals().total() - fine_tot.total() + e_fine0;
+    const double wall_early = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_early0).count();
+    early_json = {{"enabled", true},
+                  {"used", true},
+                  {"cells_per_charge_height", cs.charge.height_m / plan->block.cell_size_m},
+                  {"cell_size_m", plan->block.cell_size_m},
+                  {"run_cells_per_fine_cell", plan->ratio},
+                  {"block_m", {{"r_max", plan->block.r_max_m}, {"z_lo", plan->block.z_lo_m}, {"z_hi", plan->block.z_hi_m}}},
+                  {"cells", fg.interiorCells()},
+                  {"steps", fs_.stats().steps},
+                  {"map_time_s", fs_.time()},
+                  {"burn_time_s", plan->burn_time_s},
+                  {"mapped_run_cells", rz.target_cells},
+                  {"mapping_heat_J", cs.symmetry * rz.heat_J},
+                  {"wall_seconds", wall_early}};
+    say(fmt::format("early time: mapped {} fine cells onto {} run cells at t = {:.3g} us ({:.1f} s); the kinetic energy one velocity per run cell "
+                    "cannot hold, {:.3g} J, is heat",
+                    rz.source_cells, rz.target_cells, 1e6 * fs_.time(), wall_early, cs.symmetry * rz.heat_J));
+    st.next_history = s.time();
+    record();
+  }
+
   while (s.time() < t_end * (1.0 - 1e-12)) {
     // land exactly on output times, the checkpoint time and the end
     double stop = std::min(t_end, st.next_history + h_interval);
@@ -204,8 +318,8 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
     // The target: what the blast gives it, per material kind. The load at rest (ambient air on the
     // plate's top against sand at zero effective pressure below; in the test the supports carry
     // it) is measured on the first step, before any wave arrives, and taken off.
-    if (!st.static_known) {
-      st.static_force = cs.symmetry * s.lastBodyImpulse()[up] / dt;
+    if (!st.static_known) {   // measured on the run mesh at rest (before the early time, if any)
+      st.static_force = static_run;
       st.static_known = true;
     }
     const double iz = cs.symmetry * s.lastBodyImpulse()[up] - st.static_force * dt;
@@ -338,6 +452,7 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
                      {"note", "final = initial - boundary_flux (net outflow) - work_on_target + gravity_work; imbalance_fraction is over the charge's energy"}};
     res.energy_imbalance_fraction = sum["energy"]["imbalance_fraction"].get<double>();
   }
+  sum["early_time"] = early_json;
   sum["charge"] = {{"radius_m", cs.charge.radius_m}, {"height_m", cs.charge.height_m}, {"z_top_m", cs.charge.z_top_m},
                    {"z_bottom_m", cs.charge.z_bottom_m}, {"detonation_z_m", cs.charge.detonation_m[1]}};
   sum["run"] = {{"cells", res.cells},
