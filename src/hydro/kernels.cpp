@@ -246,7 +246,7 @@ void lagrangeUpdate(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     const double mn_g = mn + dt * m * grav;
     const double w_grav = dt * grav * 0.5 * (mn + mn_g);
     E += w_grav;
-    if (interior) ledger.gravity_work += w_grav;
+    if (interior && !P.solid[si]) ledger.gravity_work += w_grav;   // the body's cells are not the flow's
     P.mom[d][si] = mn_g;
     // transverse momentum from the shear tractions
     for (int tt = 0; tt < 2; ++tt) {
@@ -304,8 +304,8 @@ void lagrangeUpdate(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     return w;
   };
   const std::size_t lo = static_cast<std::size_t>(g), hi = static_cast<std::size_t>(g + n);
-  ledger.boundary_in += dt * P.area[lo] * (P.pstar[lo] * P.ustar[lo] - shearWork(g));
-  ledger.boundary_in -= dt * P.area[hi] * (P.pstar[hi] * P.ustar[hi] - shearWork(g + n));
+  if (!P.solid[lo]) ledger.boundary_in += dt * P.area[lo] * (P.pstar[lo] * P.ustar[lo] - shearWork(g));
+  if (!P.solid[hi - 1]) ledger.boundary_in -= dt * P.area[hi] * (P.pstar[hi] * P.ustar[hi] - shearWork(g + n));
   (void)N;
 }
 

@@ -83,7 +83,9 @@ RezoneReport mapNested(const Solver& source, Solver& target) {
         if (vol[tc] <= 0.0) continue;
         const double V = tg.cellVolume(I, J, L);
         if (std::abs(vol[tc] - V) > 1e-9 * V || target.isBody(tc))
-          throw InputError("rezone", fmt::format("target cell ({}, {}, {}) is not covered exactly by source cells (the meshes must nest)", I, J, L));
+          throw InputError("rezone", fmt::format("target cell ({}, {}, {}) at ({:.4g}, {:.4g}, {:.4g}) m is not covered exactly by source cells "
+                                                 "(volume {:.6g} of {:.6g}{}; the meshes must nest)",
+                                                 I, J, L, tg.centre(0, I), tg.centre(1, J), tg.centre(2, L), vol[tc], V, target.isBody(tc) ? ", a body cell" : ""));
         ++rep.target_cells;
         double m = 0.0, vsum = 0.0;
         for (int k = 0; k < M; ++k) {

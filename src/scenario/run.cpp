@@ -239,6 +239,16 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
     const auto t_early0 = std::chrono::steady_clock::now();
     Case fine = buildCase(deck, &plan->block);
     auto& fs_ = *fine.solver;
+    // The target on the fine block is the run mesh's, cell for cell (the staircase of a run cell
+    // is the staircase of its fine cells), so that the mapping moves no material into the target.
+    if (cs.plate.present)
+      fs_.setBody([&g, &s](const hydro::Vec3& x) {
+        auto at = [&g](int d, double v) {
+          const auto& f = g.axis(d).faces();
+          return std::clamp(static_cast<int>(std::upper_bound(f.begin(), f.end(), v) - f.begin()) - 1, 0, g.cells(d) - 1);
+        };
+        return s.isBody(g.index(at(0, x[0]), at(1, x[1]), 0));
+      });
     const auto& fg = fs_.grid();
     say(fmt::format("early time: fine block r <= {:.3f} m, z {:.3f} to {:.3f} m, {} x {} cells of {:.3g} mm ({:.1f} per charge height), to t = {:.3g} us",
                     plan->block.r_max_m, plan->block.z_lo_m, plan->block.z_hi_m, fg.cells(0), fg.cells(1), 1e3 * plan->block.cell_size_m,

@@ -3,7 +3,9 @@
 # the uninterrupted run bit for bit, and deck errors that name the key and leave nothing behind.
 ejecta=$1
 source "$(dirname "$0")/lib.sh"
-common=(emi-flat-7 --cell-size 25 --set end_time_s=0.0006 --set 'output.field_times_s=[0.0004]' --set 'output.profile_times_s=[0.0002,0.0005]' --quiet)
+# (a coarse early-time block keeps this quick under the sanitizers; the default is 20 cells per charge height)
+common=(emi-flat-7 --cell-size 25 --set end_time_s=0.0006 --set 'output.field_times_s=[0.0004]' --set 'output.profile_times_s=[0.0002,0.0005]'
+        --set early.cells_per_charge_height=8 --quiet)
 
 "$ejecta" run "${common[@]}" --checkpoint-at 0.0003 --out a > a.txt 2> a.err
 rc=$?
@@ -13,6 +15,14 @@ for f in summary.json history.csv gauges.csv surface_profiles.csv fields.pvd plo
 done
 check "a field snapshot" "ls a/fields/field_0000.vtr > /dev/null 2>&1 && grep -q RectilinearGrid a/fields/field_0000.vtr"
 check "summary parses, impulse > 0" "python3 -c 'import json; d=json.load(open(\"a/summary.json\")); assert d[\"result\"][\"impulse_Ns\"] > 0; assert d[\"deck\"][\"end_time_s\"] == 0.0006'"
+check "energy books close: imbalance <= 1e-10 of the charge's energy, every term reported" "python3 -c '
+import json; e = json.load(open(\"a/summary.json\"))[\"energy\"]
+assert abs(e[\"imbalance_fraction\"]) <= 1e-10, e[\"imbalance_fraction\"]
+for k in (\"initial_J\", \"final_J\", \"work_on_target_J\", \"boundary_flux_J\"): assert k in e, k
+assert set(e[\"by_material_J\"]) == {\"air\", \"products\", \"soil\"}'"
+check "the early time ran on a fine block and was mapped" "python3 -c '
+import json; e = json.load(open(\"a/summary.json\"))[\"early_time\"]
+assert e[\"used\"] and e[\"cells_per_charge_height\"] >= 8 and e[\"map_time_s\"] > 0, e'"
 check "no temporary files left" "[[ -z \$(find . -name '.*tmp*') ]]"
 
 "$ejecta" run "${common[@]}" --restart a/checkpoint.bin --out b --no-plot > b.txt 2> b.err
