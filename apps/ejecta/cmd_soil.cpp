@@ -21,7 +21,7 @@ namespace {
 struct SoilOptions {
   std::string dry_density, wet_density, moisture, saturation;
   std::string grain_density, quartz_k, quartz_kp, friction_slope, tension_cutoff, poisson;
-  std::string water_eos = "awg", plateau_law = "effective-stress", yield_plateau, plateau_scale, plateau_residual;
+  std::string water_eos = "awg", plateau_law = "effective-stress", yield_plateau, plateau_scale, plateau_residual, thermal_gamma;
   std::string lsdyna, units = "kg-m-s", csv_dir, json_out, plot;
   CLI::Option* json_opt = nullptr;
 };
@@ -59,6 +59,11 @@ materials::SandInputs buildInputs(const SoilOptions& o) {
     throw InputError("plateau-law", "unknown law '" + o.plateau_law + "' (valid: effective-stress, fixed)");
   }
   if (!o.plateau_scale.empty()) in.plateau.scale = parseNumber("plateau-scale", o.plateau_scale);
+  if (!o.thermal_gamma.empty()) {
+    in.thermal_gamma = parseNumber("thermal-gamma", o.thermal_gamma);
+    if (!(in.thermal_gamma >= 0.0 && in.thermal_gamma <= 4.0))
+      throw InputError("thermal-gamma", fmt::format("{:g} is out of range; valid [0, 4]", in.thermal_gamma));
+  }
   if (!o.plateau_residual.empty()) in.plateau.residual = parseNumber("plateau-residual", o.plateau_residual);
   return in;
 }
@@ -140,6 +145,7 @@ Action addSoilCommand(CLI::App& app) {
   sub->add_option("--plateau-law", o->plateau_law, "Yield plateau law: effective-stress (default) or fixed");
   sub->add_option("--yield-plateau", o->yield_plateau, "Fixed yield plateau, Pa (implies --plateau-law fixed)");
   sub->add_option("--plateau-scale", o->plateau_scale, "Multiplier on the effective-stress plateau, - (default 1)");
+  sub->add_option("--thermal-gamma", o->thermal_gamma, "Gruneisen coefficient of the energy term p = C(x) + gamma T(x) rho0 e, [0, 4] (default: from the constituents)");
   sub->add_option("--plateau-residual", o->plateau_residual, "Floor of the plateau, Pa (default 0)");
   sub->add_option("--lsdyna", o->lsdyna, "Write an LS-DYNA keyword file (*MAT_PSEUDO_TENSOR, *EOS_TABULATED_COMPACTION)");
   sub->add_option("--units", o->units, "Unit system of the keyword file: kg-m-s (default), g-mm-ms, t-mm-s");

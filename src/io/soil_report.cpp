@@ -27,7 +27,8 @@ json keyNumbersJson(const SandModel& m) {
           {"friction_knee_pressure_Pa", k.friction_knee_pressure},
           {"loading_wave_speed_m_s", k.loading_wave_speed},
           {"elastic_wave_speed_m_s", k.elastic_wave_speed},
-          {"wood_bulk_modulus_Pa", k.wood_bulk_modulus}};
+          {"wood_bulk_modulus_Pa", k.wood_bulk_modulus},
+          {"thermal_gamma", m.thermalGamma()}};
 }
 
 const char* lawName(materials::PlateauParams::Law law) {
@@ -64,7 +65,8 @@ json soilJson(const SandModel& m) {
       {"sjobo_unloading", "recalled, provisional: clamped so unloading is never softer than loading"},
       {"sjobo_shear_modulus", "76.9 MPa at 1674 kg/m3, verified"},
       {"quartz_dK_dp", "ours: 6 (alpha-quartz compression studies give 4-6)"},
-      {"yield_plateau", "ours: effective-stress law, see docs/sand-model.md"}};
+      {"yield_plateau", "ours: effective-stress law, see docs/sand-model.md"},
+      {"thermal_gamma", "ours: quartz 0.66 (alpha K / rho c_v, recalled handbook values) and water 0.28 (AWG), Reuss-weighted at equal temperature; see docs/sand-model.md"}};
   json curve = json::array();
   for (const auto& c : m.sampleLoading(kCurveSamples))
     curve.push_back({{"pressure_Pa", c.pressure}, {"strain", c.strain}, {"natural_strain", c.natural_strain},
@@ -152,6 +154,7 @@ std::string soilSummaryText(const SandModel& m) {
   out += fmt::format("  yield plateau                   {:10.2f} MPa  ({} law)\n", k.yield_plateau / 1e6,
                      lawName(in.plateau.law));
   out += fmt::format("  friction knee pressure          {:10.2f} MPa\n", k.friction_knee_pressure / 1e6);
+  out += fmt::format("  energy term gamma               {:10.3f}      (p = C(x) + gamma T(x) rho0 e; T: 0 as laid, 1 at lockup)\n", m.thermalGamma());
   out += fmt::format("  loading wave speed              {:10.1f} m/s\n", k.loading_wave_speed);
   out += fmt::format("  elastic wave speed              {:10.1f} m/s\n", k.elastic_wave_speed);
   out += fmt::format("  water EOS set '{}' ({}); Sjobo unloading data recalled (provisional)\n", in.water.name,

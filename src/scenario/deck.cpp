@@ -150,6 +150,7 @@ void readSoil(const toml::table* t, const std::string& path, SoilSpec& s) {
   r.num("radius_m", s.radius_m);
   r.str("water_eos", s.water_eos);
   r.num("plateau_scale", s.plateau_scale);
+  r.num("thermal_gamma", s.thermal_gamma);
   r.finish();
   if ((s.wet_density_kg_m3 > 0.0) == (s.dry_density_kg_m3 > 0.0))
     throw InputError(path, "give exactly one of wet_density_kg_m3 and dry_density_kg_m3 (> 0)");
@@ -158,6 +159,7 @@ void readSoil(const toml::table* t, const std::string& path, SoilSpec& s) {
   range(path + ".radius_m", s.radius_m, 0.0, 1e3, "m");
   oneOf(path + ".water_eos", s.water_eos, {"awg", "alt"});
   range(path + ".plateau_scale", s.plateau_scale, 0.0, 10.0, "-");
+  if (s.thermal_gamma != -1.0) range(path + ".thermal_gamma", s.thermal_gamma, 0.0, 4.0, "- (or -1: from the constituents)");
 }
 
 }  // namespace

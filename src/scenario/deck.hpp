@@ -28,6 +28,7 @@ struct SoilSpec {
   double radius_m = 0.0;            // 0: the whole width of the domain
   std::string water_eos = "awg";
   double plateau_scale = 1.0;
+  double thermal_gamma = -1.0;        // - the energy term's Gruneisen coefficient; < 0: from the constituents
 };
 
 struct ChargeSpec {
