@@ -35,7 +35,10 @@ int runRun(const RunCliOptions& o) {
   const auto deck = scenario::loadDeck(path, overrides);
   scenario::RunOptions ro;
   ro.out_dir = o.out.empty() ? (fs::path("out/run") / fs::path(path).stem()).string() : o.out;
-  if (!o.checkpoint_at.empty()) ro.checkpoint_at_s = parseNumber("checkpoint-at", o.checkpoint_at);
+  if (!o.checkpoint_at.empty()) {
+    ro.checkpoint_at_s = parseNumber("checkpoint-at", o.checkpoint_at);
+    if (!(ro.checkpoint_at_s > 0.0)) throw InputError("checkpoint-at", fmt::format("{:g} s is out of range; valid (0, end_time_s)", ro.checkpoint_at_s));
+  }
   ro.restart = o.restart;
   ro.progress = !o.quiet;
   ro.plot = o.plot;

@@ -135,7 +135,7 @@ Action addSoilCommand(CLI::App& app) {
                                 "Gravimetric moisture: a fraction (0.07) or a percentage (7%); default 7%");
   sub->add_option("--saturation", o->saturation, "Instead of --moisture: degree of saturation, 0-100% (with --dry-density)")
       ->excludes(moist);
-  sub->add_option("--grain-density", o->grain_density, "Quartz grain density, kg/m3 (default 2650)");
+  sub->add_option("--grain-density", o->grain_density, "Quartz grain density, kg/m3, about [2640, 5000] (the dry Sjobo baseline needs open voids; default 2650)");
   sub->add_option("--quartz-bulk-modulus", o->quartz_k, "Quartz bulk modulus, Pa (default 36.6e9)");
   sub->add_option("--quartz-dK-dp", o->quartz_kp, "Quartz pressure derivative of the bulk modulus, - (default 6)");
   sub->add_option("--water-eos", o->water_eos, "Water Gruneisen set: awg (default, verified) or alt (recalled)");

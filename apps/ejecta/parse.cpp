@@ -41,7 +41,9 @@ std::string resolveDeck(const std::string& name) {
 }
 
 void applyThreads(int threads) {
-  if (threads < 0) throw InputError("threads", fmt::format("{} is out of range; valid >= 0 (0: all cores)", threads));
+  constexpr int kMaxThreads = 1024;   // beyond this the OpenMP runtime fails (seen: a crash at 100000)
+  if (threads < 0 || threads > kMaxThreads)
+    throw InputError("threads", fmt::format("{} is out of range; valid [0, {}] (0: all cores)", threads, kMaxThreads));
 #ifdef _OPENMP
   if (threads > 0) omp_set_num_threads(threads);
 #endif

@@ -9,6 +9,8 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include "core/error.hpp"
+
 namespace ejecta::io {
 
 std::filesystem::path temporarySibling(const std::filesystem::path& path) {
@@ -18,6 +20,19 @@ std::filesystem::path temporarySibling(const std::filesystem::path& path) {
 }
 
 namespace {
+// The write-then-rename that makes a file atomic would replace whatever the path is: a device
+// node, a FIFO, a symbolic link. Those are refused (exit code 2), never replaced.
+void requireRegularTarget(const std::filesystem::path& path) {
+  std::error_code ec;
+  const auto st = std::filesystem::symlink_status(path, ec);
+  if (ec || st.type() == std::filesystem::file_type::not_found || st.type() == std::filesystem::file_type::regular) return;
+  const char* what = st.type() == std::filesystem::file_type::symlink     ? "a symbolic link"
+                     : st.type() == std::filesystem::file_type::directory ? "a directory"
+                     : st.type() == std::filesystem::file_type::fifo      ? "a FIFO"
+                                                                          : "a device or special file";
+  throw InputError(path.string(), fmt::format("is {}; outputs are written to regular files only (give a new or regular file's path)", what));
+}
+
 void writeTo(const std::filesystem::path& tmp, const std::function<void(std::ostream&)>& writer) {
   std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
   if (!out) throw std::runtime_error(fmt::format("cannot write {}", tmp.string()));
@@ -29,6 +44,7 @@ void writeTo(const std::filesystem::path& tmp, const std::function<void(std::ost
 
 void writeFileAtomically(const std::filesystem::path& path,
                          const std::function<void(std::ostream&)>& writer) {
+  requireRegularTarget(path);
   auto tmp = temporarySibling(path);
   try {
     writeTo(tmp, writer);
@@ -57,6 +73,7 @@ void OutputTransaction::discard() {
 }
 
 std::filesystem::path OutputTransaction::reserve(const std::filesystem::path& final_path) {
+  requireRegularTarget(final_path);
   auto tmp = temporarySibling(final_path);
   staged_.emplace_back(tmp, final_path);
   return tmp;

@@ -47,6 +47,13 @@ VoidSpring::VoidSpring(const QuartzParams& quartz) {
     e.push_back((eps - (1.0 - n_ref_) * quartz.strain(row.pressure)) / n_ref_);
   }
   p_table_end_ = p.back();
+  // The baseline's densest row (2671 kg/m3 at 651 MPa) must still have open voids: grains lighter
+  // than that (with their compression) leave none, and the skeleton's curve would run backwards.
+  for (std::size_t i = 1; i < e.size(); ++i)
+    if (!(e[i] > e[i - 1]) || !(e[i] < 1.0))
+      throw InputError("grain-density", fmt::format("{:g} kg/m3 is too light for the dry Sjobo baseline, which reaches {:g} kg/m3 at {:.0f} MPa; "
+                                                    "valid: grains that still leave it voids (about 2640 kg/m3 or more with these quartz moduli) up to 5000 kg/m3",
+                                                    quartz.grain_density, kSjoboTable.back().density, kSjoboTable.back().pressure / 1e6));
   // Beyond the last measured point the voids close along the last measured slope: this fixes
   // a definite lockup pressure where the skeleton becomes rigid (closure = 1).
   const std::size_t m = p.size();
@@ -101,7 +108,9 @@ SandModel::SandModel(const SandInputs& in) : in_(in), void_((
       requireRange("quartz-dK-dp", in.quartz.dK_dp, 1.0, 12.0, "-", false, false);
       return in.quartz;
     }())) {
-  requireRange("dry-density", in.dry_density, 0.0, in.quartz.grain_density, "kg/m3", true, true);
+  // Porosity at most 0.7: looser than any sand packing (random loose packing of spheres is about 0.45,
+  // the loosest natural sands about 0.55); below that the baseline curve is stretched past meaning.
+  requireRange("dry-density", in.dry_density, 0.3 * in.quartz.grain_density, in.quartz.grain_density, "kg/m3", false, true);
   requireRange("moisture", in.moisture, 0.0, 1e9, "-", false, true);
   requireRange("friction-slope", in.friction_slope, 0.0, 10.0, "-", false, false);
   requireRange("tension-cutoff", in.tension_cutoff, -1e9, 0.0, "Pa", false, false);

@@ -126,8 +126,9 @@ void applyOverride(toml::table& root, const std::string& ov) {
     if (auto* arr = next->as_array()) {
       const auto dot2 = path.find('.', start);
       const std::string index = path.substr(start, dot2 == std::string::npos ? std::string::npos : dot2 - start);
-      const bool digits = !index.empty() && index.find_first_not_of("0123456789") == std::string::npos;
-      if (!digits || dot2 == std::string::npos) throw InputError(path, fmt::format("'{}' is a list: name an entry, {}.0.KEY", part, part));
+      const bool digits = !index.empty() && index.size() <= 9 && index.find_first_not_of("0123456789") == std::string::npos;
+      if (!digits || dot2 == std::string::npos)
+        throw InputError(path, fmt::format("'{}' is a list: name an entry by its index, {}.0.KEY (valid 0 to {})", part, part, arr->size() - 1));
       const auto n = std::stoul(index);
       if (n >= arr->size() || !arr->get(n)->as_table())
         throw InputError(path, fmt::format("'{}' has {} entries; valid indices 0 to {}", part, arr->size(), arr->size() - 1));
@@ -323,8 +324,19 @@ Deck parseDeck(const std::string& text, const std::vector<std::string>& override
     r.finish();
     range("output.history_interval_s", o.history_interval_s, 1e-8, 1.0, "s");
     range("output.surface_soil_fraction", o.surface_soil_fraction, 0.01, 1.0, "-");
+    // output times: positive and increasing (times after end_time_s are simply not reached: a run
+    // shortened with --set end_time_s keeps its deck's later times)
+    for (const auto& [key, times] : {std::pair<const char*, const std::vector<double>*>{"output.profile_times_s", &o.profile_times_s},
+                                     {"output.field_times_s", &o.field_times_s}}) {
+      double prev = 0.0;
+      for (const double t : *times) {
+        if (!(t > prev) || !std::isfinite(t))
+          throw InputError(key, fmt::format("{:g} s is out of range; valid: increasing times > 0 s", t));
+        prev = t;
+      }
+    }
     for (const auto& g : o.gauges_m) {
-      if (g[0] < 0.0 || g[0] > d.mesh.domain_radius_m || g[1] < d.mesh.domain_bottom_m || g[1] > d.mesh.domain_top_m)
+      if (!std::isfinite(g[0]) || !std::isfinite(g[1]) || g[0] < 0.0 || g[0] > d.mesh.domain_radius_m || g[1] < d.mesh.domain_bottom_m || g[1] > d.mesh.domain_top_m)
         throw InputError("output.gauges_m", fmt::format("gauge ({:g}, {:g}) m is outside the domain", g[0], g[1]));
     }
   }

@@ -185,6 +185,8 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
   };
   const fs::path out(opt.out_dir);
   if (fs::exists(out) && !fs::is_directory(out)) throw InputError("out", fmt::format("'{}' exists and is not a directory", opt.out_dir));
+  if (opt.checkpoint_at_s > 0.0 && !(opt.checkpoint_at_s < deck.end_time_s))
+    throw InputError("checkpoint-at", fmt::format("{:g} s is out of range; valid (0, end_time_s = {:g}) s", opt.checkpoint_at_s, deck.end_time_s));
   Case cs = buildCase(deck);   // validates everything before the run folder is touched
   auto& s = *cs.solver;
   const auto& g = s.grid();
@@ -201,6 +203,10 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
     s.readCheckpoint(in);
     getState(in, st);
     if (!in) throw InputError("restart", "the checkpoint is truncated");
+    if (!(s.time() < deck.end_time_s))
+      throw InputError("end_time_s", fmt::format("{:g} s is not after the checkpoint's time, {:g} s", deck.end_time_s, s.time()));
+    if (opt.checkpoint_at_s > 0.0 && !(opt.checkpoint_at_s > s.time()))
+      throw InputError("checkpoint-at", fmt::format("{:g} s is not after the checkpoint's time, {:g} s", opt.checkpoint_at_s, s.time()));
     say(fmt::format("restarted from {} at t = {:.6g} s", opt.restart, s.time()));
   }
   fs::create_directories(out / "fields");

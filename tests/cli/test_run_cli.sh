@@ -40,6 +40,20 @@ err=$("$ejecta" run "${common[@]}" --set charge.depth_of_burial_m=3 --out c 2>&1
 check "charge outside the domain: exit 2 naming it" "[[ $? -eq 2 ]] && grep -q depth_of_burial <<< \"\$err\""
 err=$("$ejecta" run "${common[@]}" --set 'soil=[{dry_density_kg_m3=1670.0, moisture=0.30}]' --out c 2>&1 >/dev/null)
 check "saturation over 100%: exit 2 naming the soil" "[[ $? -eq 2 ]] && grep -q 'soil\[0\]' <<< \"\$err\""
+for bad in "output.field_times_s=[0.0]" "output.profile_times_s=[0.0005,0.0002]" "output.field_times_s=[-1.0]"; do
+  err=$("$ejecta" run "${common[@]}" --set "$bad" --out c 2>&1 >/dev/null)
+  check "bad output times ($bad): exit 2 naming the key" "[[ $? -eq 2 ]] && grep -q '${bad%%=*}' <<< \"\$err\""
+done
+for at in -1 0 0.0006 0.01; do
+  err=$("$ejecta" run "${common[@]}" --checkpoint-at $at --out c 2>&1 >/dev/null)
+  check "checkpoint at $at s (not inside the run): exit 2" "[[ $? -eq 2 ]] && grep -q 'checkpoint-at' <<< \"\$err\""
+done
+err=$("$ejecta" run "${common[@]}" --threads 100000 --out c 2>&1 >/dev/null)
+check "--threads 100000: exit 2 naming it" "[[ $? -eq 2 ]] && grep -q threads <<< \"\$err\""
+err=$("$ejecta" run "${common[@]}" --set soil.99999999999999999999.moisture=0.1 --out c 2>&1 >/dev/null)
+check "huge list index: exit 2 naming the key" "[[ $? -eq 2 ]] && grep -q 'soil.99999999999999999999' <<< \"\$err\""
+err=$("$ejecta" run "${common[@]}" --restart a/checkpoint.bin --set end_time_s=0.0002 --out c 2>&1 >/dev/null)
+check "restart with an end before the checkpoint: exit 2" "[[ $? -eq 2 ]] && grep -q end_time_s <<< \"\$err\""
 err=$("$ejecta" run no-such-deck --out c 2>&1 >/dev/null)
 check "missing deck: exit 2" "[[ $? -eq 2 ]] && grep -q deck <<< \"\$err\""
 check "nothing written by the failures" "[[ ! -e c ]]"

@@ -35,6 +35,22 @@ bad "unknown flag" "--frobnicate" --frobnicate 3
 bad "unknown water set" "water-eos" --water-eos seawater
 bad "unknown units" "units" --units furlongs
 bad "saturation over 100% via --saturation" "saturation" --dry-density 1490 --saturation 120%
+bad "grains lighter than the baseline's compacted sand" "grain-density" --grain-density 1300
+bad "vanishing dry density" "dry-density" --dry-density 1e-300 --moisture 0
+bad "porosity over 0.7" "dry-density" --dry-density 0.1 --moisture 0
+bad "energy term gamma out of range" "thermal-gamma" --thermal-gamma 9
+
+# Output paths that are not regular files are refused, never replaced (device, FIFO, symbolic link).
+mknod -m 666 dev c 1 3 2>/dev/null && {
+  "$ejecta" soil --lsdyna dev > /dev/null 2>&1
+  check "device node: exit 2 and still a device" "[[ $? -eq 2 && -c dev ]]"
+}
+mkfifo fifo
+"$ejecta" soil --lsdyna fifo > /dev/null 2>&1
+check "FIFO: exit 2 and still a FIFO" "[[ $? -eq 2 && -p fifo ]]"
+ln -s target.k link
+"$ejecta" soil --lsdyna link > /dev/null 2>&1
+check "symbolic link: exit 2, the link kept, nothing written through it" "[[ $? -eq 2 && -L link && ! -e target.k ]]"
 
 # A failing plot (no matplotlib found) must leave none of the other outputs behind.
 rm -rf out; mkdir out
