@@ -56,12 +56,21 @@ double thincOutflow(double a, double a_lo, double a_hi, double b, bool out_high,
   return std::clamp(f, lo_cap, hi_cap);
 }
 
-void shareHeat(int M, const double* mass, const double* loss, double heat, double* add) {
+void shareHeat(int M, const double* mass, const double* loss, double heat, const double* held, double* add) {
   double m = 0.0, given = 0.0;
   for (int k = 0; k < M; ++k) m += mass[k];
-  for (int k = 0; k < M; ++k) {
-    add[k] = heat > 0.0 && m > 0.0 ? std::min(std::max(loss[k], 0.0), 2.0 * heat * mass[k] / m) : 0.0;
-    given += add[k];
+  if (heat >= 0.0) {
+    for (int k = 0; k < M; ++k) {
+      add[k] = m > 0.0 ? std::min(std::max(loss[k], 0.0), 2.0 * heat * mass[k] / m) : 0.0;
+      given += add[k];
+    }
+  } else {   // a net gain of kinetic energy (limited slopes): taken from the internal energy held
+    double pos = 0.0;
+    for (int k = 0; k < M; ++k) pos += std::max(held[k], 0.0);
+    for (int k = 0; k < M; ++k) {
+      add[k] = pos > 0.0 ? heat * std::max(held[k], 0.0) / pos : 0.0;
+      given += add[k];
+    }
   }
   if (m > 0.0)
     for (int k = 0; k < M; ++k) add[k] += (heat - given) * mass[k] / m;
@@ -131,12 +140,10 @@ void closeMixedCell(MixedCell& c, double V, double Vl, double die) {
   const int M = c.M;
   const double dV = Vl - V;
   int present = 0;
-  double wsum = 0.0, dv_frag = 0.0, ie0[kMaxMaterials];
+  double dv_frag = 0.0;
   for (int k = 0; k < M; ++k) {
-    ie0[k] = c.ie[k];
     if (c.alpha[k] > kAlphaMin) {
       ++present;
-      wsum += c.alpha[k] / std::max(c.K[k], 1.0);
     } else {
       dv_frag += c.alpha[k] * dV;
     }
@@ -148,15 +155,37 @@ void closeMixedCell(MixedCell& c, double V, double Vl, double die) {
     }
     return;
   }
-  // 1. the volume change by compressibility, work at each material's own pressure
-  double work = 0.0;
+  // 1. the volume change by compressibility, work at each material's own pressure. A material
+  //    may not lose more than 95% of its volume in a step; what it cannot take goes to the others
+  //    (by their compressibility), and each is charged for the change it actually makes.
+  double work = 0.0, dv[kMaxMaterials];
+  bool held[kMaxMaterials] = {};
+  double remaining = dV - dv_frag;
+  for (int k = 0; k < M; ++k) dv[k] = c.alpha[k] > kAlphaMin ? 0.0 : c.alpha[k] * dV;
+  for (int pass = 0; pass < M; ++pass) {
+    double w = 0.0;
+    for (int k = 0; k < M; ++k)
+      if (c.alpha[k] > kAlphaMin && !held[k]) w += c.alpha[k] / std::max(c.K[k], 1.0);
+    if (!(w > 0.0)) break;
+    bool clamped = false;
+    for (int k = 0; k < M; ++k) {
+      if (c.alpha[k] <= kAlphaMin || held[k]) continue;
+      dv[k] = remaining * (c.alpha[k] / std::max(c.K[k], 1.0)) / w;
+      if (dv[k] < -0.95 * c.alpha[k] * V) {
+        dv[k] = -0.95 * c.alpha[k] * V;
+        held[k] = true;
+        clamped = true;
+      }
+    }
+    if (!clamped) break;
+    remaining = dV - dv_frag;
+    for (int k = 0; k < M; ++k)
+      if (held[k]) remaining -= dv[k];
+  }
   for (int k = 0; k < M; ++k) {
-    double dvk = c.alpha[k] * dV;
-    if (c.alpha[k] > kAlphaMin) dvk = (dV - dv_frag) * (c.alpha[k] / std::max(c.K[k], 1.0)) / wsum;
-    c.v[k] = c.alpha[k] * V + dvk;
-    if (c.v[k] < 0.05 * c.alpha[k] * V) c.v[k] = 0.05 * c.alpha[k] * V;   // no material collapses in one step
+    c.v[k] = c.alpha[k] * V + dv[k];
     if (c.alpha[k] > kAlphaMin) {
-      const double wk = -c.p[k] * dvk;
+      const double wk = -c.p[k] * dv[k];
       c.ie[k] += wk;
       work += wk;
     }
@@ -196,24 +225,39 @@ void closeMixedCell(MixedCell& c, double V, double Vl, double die) {
   double vs = 0.0;
   for (int k = 0; k < M; ++k) vs += c.v[k];
   for (int k = 0; k < M; ++k) c.v[k] *= Vl / vs;
-  // 3. the rest of the energy change (dissipation, shear work) by compression, a loss by energy
+  // 3. the rest of the energy change (dissipation, shear work): a gain by compression (by the
+  //    magnitude of p dV where nothing was compressed), never more than twice the cell's mean per
+  //    unit mass to one material, the remainder by mass; a loss by what each material holds.
   const double rest = die - work;
-  double wsq = 0.0, wcomp = 0.0, iesum = 0.0, msum = 0.0;
+  double wsq = 0.0, wpdv = 0.0, msum = 0.0, share[kMaxMaterials] = {};
   for (int k = 0; k < M; ++k) {
     if (c.alpha[k] <= kAlphaMin) continue;
     wsq += std::max(c.alpha[k] * V - c.v[k], 0.0);
-    wcomp += c.alpha[k] / std::max(c.K[k], 1.0);
-    iesum += std::max(ie0[k], 0.0);
+    wpdv += std::abs(c.p[k] * (c.v[k] - c.alpha[k] * V));
     msum += c.m[k];
   }
-  for (int k = 0; k < M; ++k) {
-    if (c.alpha[k] <= kAlphaMin) continue;
-    double share;
-    if (rest >= 0.0)
-      share = wsq > 0.0 ? std::max(c.alpha[k] * V - c.v[k], 0.0) / wsq : (c.alpha[k] / std::max(c.K[k], 1.0)) / wcomp;
-    else
-      share = iesum > 0.0 ? std::max(ie0[k], 0.0) / iesum : c.m[k] / msum;
-    c.ie[k] += rest * share;
+  if (rest >= 0.0) {
+    double given = 0.0;
+    for (int k = 0; k < M; ++k) {
+      if (c.alpha[k] <= kAlphaMin) continue;
+      const double wk = wsq > 0.0 ? std::max(c.alpha[k] * V - c.v[k], 0.0) / wsq
+                                  : (wpdv > 0.0 ? std::abs(c.p[k] * (c.v[k] - c.alpha[k] * V)) / wpdv : c.m[k] / msum);
+      share[k] = msum > 0.0 ? std::min(rest * wk, 2.0 * rest * c.m[k] / msum) : rest * wk;
+      given += share[k];
+    }
+    for (int k = 0; k < M; ++k)
+      if (c.alpha[k] > kAlphaMin) c.ie[k] += share[k] + (msum > 0.0 ? (rest - given) * c.m[k] / msum : 0.0);
+  } else {
+    double held_ie = 0.0, taken = 0.0;
+    for (int k = 0; k < M; ++k)
+      if (c.alpha[k] > kAlphaMin) held_ie += std::max(c.ie[k], 0.0);
+    for (int k = 0; k < M; ++k) {
+      if (c.alpha[k] <= kAlphaMin) continue;
+      share[k] = held_ie > 0.0 ? std::max(-std::max(c.ie[k], 0.0), rest * std::max(c.ie[k], 0.0) / held_ie) : 0.0;
+      taken += share[k];
+    }
+    for (int k = 0; k < M; ++k)
+      if (c.alpha[k] > kAlphaMin) c.ie[k] += share[k] + (msum > 0.0 ? (rest - taken) * c.m[k] / msum : 0.0);
   }
 }
 

@@ -86,13 +86,15 @@ void lagrangeUpdate(Pencil& P, const SweepSetup& S, PencilLedger& ledger);
 // rho c^2, mass, internal energy (J) before, the cell's volumes before (V) and after (Vl), and
 // the cell's internal energy change `die` (J). Out: each material's volume and internal energy.
 //  1. The volume change is shared by compressibility alpha_k / (rho_k c_k^2) (equal pressure
-//     increments); each material does p_k dV_k at its own pressure.
+//     increments), no material losing more than 95% of its volume in a step (the rest goes to the
+//     others); each material does p_k dV_k at its own pressure for the change it makes.
 //  2. Materials at unequal pressures exchange volume towards the linearised common pressure;
 //     each works at its own pressure, and what the expanding ones give beyond that goes as heat
 //     to the ones compressed by it (the compressed material is worked at the pushing pressure).
 //  3. The rest of `die` (the Riemann solver's dissipation, shear work) goes to the materials in
-//     proportion to their compression in this step (by compressibility where none was compressed);
-//     a loss is taken in proportion to internal energy. Total energy is exact.
+//     proportion to their compression in this step (by |p dV| where none was compressed), at most
+//     twice the cell's mean per unit mass each, the remainder by mass; a loss is taken in
+//     proportion to the internal energy each holds. Total energy is exact.
 struct MixedCell {
   int M = 0;
   double alpha[kMaxMaterials], p[kMaxMaterials], K[kMaxMaterials], m[kMaxMaterials], ie[kMaxMaterials];
@@ -108,8 +110,10 @@ void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger);
 // Kinetic energy that a remap (or a rezone) took from the flow, returned as heat: `heat` in all
 // (sum of `loss` plus anything else to place), to each material as it lost it, but never more
 // than twice the cell's mean heat per unit mass (a sliver whose in- and outflow nearly cancel
-// has an ill-defined loss); what that leaves goes by mass. `add[k]` sums to `heat` exactly.
-void shareHeat(int M, const double* mass, const double* loss, double heat, double* add);
+// has an ill-defined loss); what that leaves goes by mass. A net gain (heat < 0, possible with
+// limited slopes) is taken in proportion to the internal energy each material holds (`held`, J).
+// `add[k]` sums to `heat` exactly.
+void shareHeat(int M, const double* mass, const double* loss, double heat, const double* held, double* add);
 
 // Fraction of the donor's volume that is material k and leaves through the face, for a swept
 // fraction b of the donor, from a THINC (tanh) profile (Xiao, Honma & Kono 2005).

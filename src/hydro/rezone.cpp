@@ -98,14 +98,15 @@ RezoneReport mapNested(const Solver& source, Solver& target) {
           u[d] = m > 0.0 ? mom[tc][d] / m : 0.0;
           U2 += u[d] * u[d];
         }
-        double m_new[kMaxMaterials], loss[kMaxMaterials], add[kMaxMaterials], heat = 0.0;
+        double m_new[kMaxMaterials], loss[kMaxMaterials], add[kMaxMaterials], held[kMaxMaterials], heat = 0.0;
         for (int k = 0; k < M; ++k) {
           const std::size_t q = tc * uM + static_cast<std::size_t>(k);
           m_new[k] = mk[q];
+          held[k] = iek[q];
           loss[k] = kek[q] - 0.5 * mk[q] * U2;
           heat += loss[k];
         }
-        shareHeat(M, m_new, loss, heat, add);
+        shareHeat(M, m_new, loss, heat, held, add);
         rep.heat_J += heat;
         for (int k = 0; k < M; ++k) {
           auto& F = target.fieldForSetup(k);

@@ -600,7 +600,7 @@ std::size_t Solver::scatterPencil(const Pencil& P, int d, std::size_t base) {
       loss[k] = ke_in[k] - 0.5 * mk_new[k] * u2;
       heat += loss[k];
     }
-    shareHeat(M, mk_new, loss, heat, add);
+    shareHeat(M, mk_new, loss, heat, ie_new, add);
     const double V = P.vol[si];
     bool ok = m > 0.0 && std::isfinite(m);
     for (int k = 0; k < M; ++k) {

@@ -108,9 +108,9 @@ SandModel::SandModel(const SandInputs& in) : in_(in), void_((
       requireRange("quartz-dK-dp", in.quartz.dK_dp, 1.0, 12.0, "-", false, false);
       return in.quartz;
     }())) {
-  // Porosity at most 0.7: looser than any sand packing (random loose packing of spheres is about 0.45,
-  // the loosest natural sands about 0.55); below that the baseline curve is stretched past meaning.
-  requireRange("dry-density", in.dry_density, 0.3 * in.quartz.grain_density, in.quartz.grain_density, "kg/m3", false, true);
+  // porosity at most max_porosity (SandInputs): below that the baseline curve is stretched past meaning
+  requireRange("dry-density", in.dry_density, (1.0 - std::min(in.max_porosity, 1.0)) * in.quartz.grain_density, in.quartz.grain_density, "kg/m3",
+               in.max_porosity >= 1.0, true);
   requireRange("moisture", in.moisture, 0.0, 1e9, "-", false, true);
   requireRange("friction-slope", in.friction_slope, 0.0, 10.0, "-", false, false);
   requireRange("tension-cutoff", in.tension_cutoff, -1e9, 0.0, "Pa", false, false);

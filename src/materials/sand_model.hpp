@@ -39,6 +39,10 @@ struct SandInputs {
   // Gruneisen coefficient of the sand's energy term (p = C(x) + gamma T(x) rho0 e, LS-DYNA's
   // *EOS_TABULATED_COMPACTION form). Negative: derived from the constituents (SandModel::thermalGamma).
   double thermal_gamma = -1.0;   // -
+  // Porosity at most this: looser than any sand packing (random loose packing of spheres is about
+  // 0.45, the loosest natural sands about 0.55). The model's bounding-case checks (a pure water
+  // column, porosity -> 1) raise it to 1.
+  double max_porosity = 0.7;     // -
 
   // Users often know the wet (gross) density: rho_d = rho_wet / (1 + w).
   static SandInputs fromWetDensity(double wet_density, double moisture);
@@ -156,33 +160,22 @@ class SandPointEos {
 
   // x: natural strain ln(rho/rho0); x_max: the largest reached; e: specific internal energy, J/kg.
   Result evaluate(double x, double x_max, double e = 0.0) const noexcept {
-    const Result r = evaluateCompaction(x, x_max);
-    if (!(e > 0.0) || gamma_ == 0.0) return r;
-    // energy term: positive, on top of the compaction pressure (and its cutoff)
-    const double f = x <= 0.0 ? 0.0 : (x >= x_lock_ ? 1.0 : x / x_lock_);
-    const double gt = gamma_ * f * (x > 0.0 ? std::exp(x) : 1.0);
-    const double p_th = gt * rho0_ * e;
-    const double p = r.pressure + p_th;
-    // rho c^2 gains (p / rho) dp/de = p gamma T rho0 / rho
-    return {p, r.bulk_modulus + (p > 0.0 ? p : 0.0) * gt * (x > 0.0 ? std::exp(-x) : 1.0)};
-  }
-
-  Result evaluateCompaction(double x, double x_max) const noexcept {
-    const bool loading = x >= x_max;
-    const double xl = loading ? x : x_max;
-    double s = xl * inv_dx_;
-    s = s < 0.0 ? 0.0 : s;
-    int i = static_cast<int>(s);
-    i = i > last_ ? last_ : i;
-    const double t = s - i;   // t > 1 extrapolates the last interval
-    const double p_on_curve = xl < 0.0 ? k_load_[0] * xl : p_[i] + t * (p_[i + 1] - p_[i]);
-    if (loading) {
-      const double k = k_load_[i] + (t > 1.0 ? 1.0 : t) * (k_load_[i + 1] - k_load_[i]);
-      return {p_on_curve > p_cut_ ? p_on_curve : p_cut_, k};
+    Result r = compaction(x, x_max);
+    if (e > 0.0 && gamma_ > 0.0) {
+      // The energy term, added before the tension cutoff: heated sand that unloads rebounds along
+      // its stiff unloading branch until the total pressure falls to zero (a small expansion, like
+      // the grains' thermal expansion), instead of the term pushing it back to its laid density.
+      const double ex = x > 0.0 ? std::exp(x) : 1.0;
+      const double f = x <= 0.0 ? 0.0 : (x >= x_lock_ ? 1.0 : x / x_lock_);
+      const double df = x > 0.0 && x < x_lock_ ? 1.0 / x_lock_ : 0.0;
+      const double p_th = gamma_ * f * ex * rho0_ * e;
+      r.pressure += p_th;
+      // rho c^2 = rho dp/drho|e + (p / rho) dp/de: the term's own stiffness d p_th / dx, and its
+      // energy derivative gamma f rho0 e^x / rho = gamma f
+      r.bulk_modulus += p_th + gamma_ * df * ex * rho0_ * e + (r.pressure > 0.0 ? r.pressure : 0.0) * gamma_ * f;
     }
-    const double k = k_unload_[i] + (t > 1.0 ? 1.0 : t) * (k_unload_[i + 1] - k_unload_[i]);
-    const double p = p_on_curve - k * (x_max - x);
-    return {p > p_cut_ ? p : p_cut_, k};
+    if (r.pressure < p_cut_) r.pressure = p_cut_;
+    return r;
   }
 
   double shearModulus(double x_max) const noexcept {
@@ -199,6 +192,25 @@ class SandPointEos {
   double tableTop() const { return dx_ * last_ + dx_; }
 
  private:
+  // The compaction curve's pressure (loading, or elastic unloading below x_max), before the cutoff.
+  Result compaction(double x, double x_max) const noexcept {
+    const bool loading = x >= x_max;
+    const double xl = loading ? x : x_max;
+    double s = xl * inv_dx_;
+    s = s < 0.0 ? 0.0 : s;
+    int i = static_cast<int>(s);
+    i = i > last_ ? last_ : i;
+    const double t = s - i;   // t > 1 extrapolates the last interval
+    const double p_on_curve = xl < 0.0 ? k_load_[0] * xl : p_[i] + t * (p_[i + 1] - p_[i]);
+    if (loading) {
+      const double k = k_load_[i] + (t > 1.0 ? 1.0 : t) * (k_load_[i + 1] - k_load_[i]);
+      return {p_on_curve, k};
+    }
+    const double k = k_unload_[i] + (t > 1.0 ? 1.0 : t) * (k_unload_[i + 1] - k_unload_[i]);
+    const double p = p_on_curve - k * (x_max - x);
+    return {p, k};
+  }
+
   std::vector<double> p_, k_load_, k_unload_, g_;
   double dx_, inv_dx_, rho0_, p_cut_;
   double gamma_ = 0.0, x_lock_ = 1.0;   // energy term (SandModel::thermalGamma, thermalFactor)

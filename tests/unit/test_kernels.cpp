@@ -127,8 +127,8 @@ TEST(Kernels, MixedCellClosureConservesEnergyAndHeatsTheCompressed) {
 }
 
 TEST(Kernels, MixedCellDissipationGoesToTheCompressedMaterial) {
-  // A cell compressed with two materials of equal stiffness but very different mass: the shock
-  // heat follows the compression (equal), not the mass.
+  // A cell compressed with two materials of equal stiffness but different mass: the shock heat
+  // follows the compression (equal), not the mass.
   hydro::MixedCell c;
   c.M = 2;
   for (int k = 0; k < 2; ++k) {
@@ -137,8 +137,8 @@ TEST(Kernels, MixedCellDissipationGoesToTheCompressedMaterial) {
     c.K[k] = 1e9;
     c.ie[k] = 0.0;
   }
-  c.m[0] = 1000.0;
-  c.m[1] = 1.0;
+  c.m[0] = 1000.0;   // twice the mass, the same compression
+  c.m[1] = 500.0;
   const double V = 1.0, Vl = 0.99, work = 1e6 * 0.01, die = work + 500.0;   // 500 J of dissipation
   hydro::closeMixedCell(c, V, Vl, die);
   EXPECT_NEAR(c.ie[0], 0.5 * die, 1e-9);
@@ -146,12 +146,16 @@ TEST(Kernels, MixedCellDissipationGoesToTheCompressedMaterial) {
 }
 
 TEST(Kernels, ShareHeatSumsExactlyAndCapsASliver) {
-  const double mass[3] = {1.0, 1.0, 1e-12}, loss[3] = {2.0, 0.5, 3.0};
+  const double mass[3] = {1.0, 1.0, 1e-12}, loss[3] = {2.0, 0.5, 3.0}, held[3] = {10.0, 0.0, 1.0};
   double add[3];
-  hydro::shareHeat(3, mass, loss, 5.5, add);
+  hydro::shareHeat(3, mass, loss, 5.5, held, add);
   EXPECT_NEAR(add[0] + add[1] + add[2], 5.5, 1e-14);
   EXPECT_LT(add[2] / mass[2], 3.0 * 5.5 / 2.0);   // no more than about twice the mean per unit mass
   EXPECT_GT(add[0], add[1]);                     // the one that lost more gets more
+  // a net gain is taken from the energy held, not from a cold material by mass
+  hydro::shareHeat(3, mass, loss, -1.0, held, add);
+  EXPECT_NEAR(add[0] + add[1] + add[2], -1.0, 1e-14);
+  EXPECT_EQ(add[1], 0.0);
 }
 
 TEST(Kernels, RemapOfAUniformFlowCarriesMassEnergyAndMomentumConsistently) {
@@ -224,6 +228,16 @@ TEST(SandEnergyTerm, NoThermalPressureAsLaidFullTermAtLockup) {
   const double x = 1.2 * model.keyNumbers().lockup_strain, rho = rho0 * std::exp(x);
   const double dp = materials::evaluateEos(m, rho, e, x).pressure - materials::evaluateEos(m, rho, 0.0, x).pressure;
   EXPECT_NEAR(dp, model.thermalGamma() * rho * e, 1e-9 * dp);
+  // heated compacted sand that unloads rebounds a little along its stiff unloading branch until the
+  // total pressure reaches the cutoff: the energy term does not push it back to its laid density
+  const auto hot = materials::evaluateEos(m, rho, 2e5, x);
+  ASSERT_GT(hot.pressure, 0.0);
+  double lo = 0.0, hi = x;   // the strain below x_max where the total pressure reaches the cutoff
+  for (int it = 0; it < 60; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (materials::evaluateEos(m, rho0 * std::exp(x - mid), 2e5, x).pressure > m.sand->tensionCutoff() ? lo : hi) = mid;
+  }
+  EXPECT_LT(hi, 0.1 * x);
   // the dry sand's coefficient is the quartz's; water lowers it
   const auto dry = materials::SandModel(materials::SandInputs::fromWetDensity(1280.0, 0.0));
   EXPECT_NEAR(dry.thermalGamma(), materials::QuartzParams{}.gruneisen, 1e-12);

@@ -23,6 +23,7 @@ SandInputs dry(double rho_d) {
 SandInputs saturated(double rho_d, double s) {
   SandInputs in;
   in.dry_density = rho_d;
+  in.max_porosity = 1.0;   // the bounding cases go to porosity -> 1
   in.moisture = s * (1.0 - rho_d / in.quartz.grain_density) * 1000.0 / rho_d;
   return in;
 }
