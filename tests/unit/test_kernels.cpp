@@ -237,7 +237,7 @@ TEST(SandEnergyTerm, NoThermalPressureAsLaidFullTermAtLockup) {
     const double mid = 0.5 * (lo + hi);
     (materials::evaluateEos(m, rho0 * std::exp(x - mid), 2e5, x).pressure > m.sand->tensionCutoff() ? lo : hi) = mid;
   }
-  EXPECT_LT(hi, 0.1 * x);
+  EXPECT_LT(hi, 0.25 * x);   // most of the compaction stays (it went back to x = 0 before the fix)
   // the dry sand's coefficient is the quartz's; water lowers it
   const auto dry = materials::SandModel(materials::SandInputs::fromWetDensity(1280.0, 0.0));
   EXPECT_NEAR(dry.thermalGamma(), materials::QuartzParams{}.gruneisen, 1e-12);
