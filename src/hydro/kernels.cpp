@@ -120,7 +120,7 @@ void solveFaces(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
           const std::size_t fluid = body_right ? L : R;
           const double imp = (body_right ? 1.0 : -1.0) * ps * P.area[sf] * dt;
           ledger.target_work += imp * wall_u;
-          for (int k = 0; k < P.M; ++k) ledger.impulse_on_body[k] += imp * P.a[P.at(k, static_cast<int>(fluid))];
+          for (int k = 0; k < P.M; ++k) ledger.impulse_on_body[k][S.d] += imp * P.a[P.at(k, static_cast<int>(fluid))];
         }
       }
       continue;
@@ -305,12 +305,19 @@ void lagrangeUpdate(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
       E += dt * (Ar * tr * ur - Al * tl * ul);
       if (S.friction > 0.0 && !P.solid[si] && (P.solid[si - 1] | P.solid[si + 1])) {
         // Coulomb friction on the body's face: mu times the compressive normal stress, opposing
-        // the sliding, never reversing it within a step. The kinetic energy it removes stays in
+        // the sliding, never reversing it within a step. The body gains the momentum the flow
+        // loses and the work at its own velocity; the rest of the kinetic energy removed stays in
         // the cell's total energy, i.e. becomes heat.
         const double pn = std::max(P.solid[si + 1] ? P.pstar[fr] : 0.0, 0.0) * Ar + std::max(P.solid[si - 1] ? P.pstar[si] : 0.0, 0.0) * Al;
         const double slide = P.mom[comp][si] - m * S.wall_velocity[comp];
-        const double cut = std::min(S.friction * pn * dt, std::abs(slide));
-        P.mom[comp][si] -= std::copysign(cut, slide);
+        const double taken = std::copysign(std::min(S.friction * pn * dt, std::abs(slide)), slide);
+        P.mom[comp][si] -= taken;
+        const double w_body = taken * S.wall_velocity[comp];
+        E -= w_body;
+        if (interior) {
+          ledger.target_work += w_body;
+          for (int k = 0; k < M; ++k) ledger.impulse_on_body[k][comp] += taken * P.a[P.at(k, i)];
+        }
       }
     }
     double ke1 = 0.0;

@@ -67,7 +67,8 @@ struct PencilLedger {
   double boundary_in = 0.0;    // across the pencil's two end faces, into the block
   double target_work = 0.0;    // done by the flow on the moving body
   double gravity_work = 0.0;   // done by gravity on the flow
-  double impulse_on_body[kMaxMaterials] = {};   // N s along d, by material beside the face
+  double impulse_on_body[kMaxMaterials][3] = {};   // N s by material beside the face: the normal load
+                                                   // (along d) and the friction (transverse)
 };
 
 // van Leer-limited slopes of the normal velocity and normal stress (first order beside a body).

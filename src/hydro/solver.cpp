@@ -697,8 +697,10 @@ void Solver::sweep(int d, double dt) {
     energy_.target_work += l.target_work;
     energy_.gravity_work += l.gravity_work;
     for (int k = 0; k < M; ++k) {
-      body_impulse_[static_cast<std::size_t>(d)] += l.impulse_on_body[k];
-      if (!body_impulse_mat_.empty()) body_impulse_mat_[static_cast<std::size_t>(k)][static_cast<std::size_t>(d)] += l.impulse_on_body[k];
+      for (std::size_t q = 0; q < 3; ++q) {
+        body_impulse_[q] += l.impulse_on_body[k][q];
+        if (!body_impulse_mat_.empty()) body_impulse_mat_[static_cast<std::size_t>(k)][q] += l.impulse_on_body[k][q];
+      }
     }
   }
   if (bad_cell != std::numeric_limits<std::size_t>::max()) checkCell(bad_cell, d == 0 ? "sweep along axis 0" : (d == 1 ? "sweep along axis 1" : "sweep along axis 2"));

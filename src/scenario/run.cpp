@@ -163,6 +163,18 @@ std::optional<EarlyPlan> planEarly(const Deck& deck, const Case& cs) {
   p.block.r_max_m = firstAtOrAbove(rf, ch.radius_m + e.block_margin_m);
   p.block.z_lo_m = lastAtOrBelow(zf, ch.z_bottom_m - e.block_margin_m);
   p.block.z_hi_m = firstAtOrAbove(zf, ch.z_top_m + e.block_margin_m);
+  // No cut side within the ghost layers of a target face: a face of the target on (or next to) a
+  // cut would take its load from ghost cells. The block stops short of it instead.
+  if (cs.plate.present) {
+    const double gap = mesh::kGhost * h;
+    const auto& pl = cs.plate;
+    const bool under = pl.r_inner_m < p.block.r_max_m;   // the target spans the block's radius
+    if (under && p.block.z_hi_m > pl.z_bottom_m - gap && p.block.z_hi_m < pl.z_top_m + gap)
+      p.block.z_hi_m = lastAtOrBelow(zf, pl.z_bottom_m - gap);
+    const bool beside = pl.z_bottom_m < p.block.z_hi_m && pl.z_top_m > p.block.z_lo_m;
+    for (const double face : {pl.r_inner_m, pl.r_outer_m})
+      if (beside && face > 0.0 && std::abs(p.block.r_max_m - face) < gap) p.block.r_max_m = lastAtOrBelow(rf, face - gap);
+  }
   const double reach = std::min({p.block.r_max_m - ch.radius_m, ch.z_bottom_m - p.block.z_lo_m, p.block.z_hi_m - ch.z_top_m});
   if (!(reach > 0.0)) return std::nullopt;
   const auto ex = materials::explosive(deck.charge.explosive).jwl;
@@ -290,6 +302,19 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
       }
     }
     const auto fine_tot = fs_.totals();
+    // The block must have held everything until the map: what crossed its cut sides never reaches
+    // the run mesh outside it (the books would still close, so this is checked on its own).
+    const double charge_energy = deck.charge.mass_kg * s.materials()[1].jwl.e0 / s.materials()[1].jwl.rho0;
+    const double leaked = std::abs(cs.symmetry * fine_tot.boundary_in);
+    std::vector<std::string> early_warnings;
+    if (leaked > 1e-3 * charge_energy)
+      early_warnings.push_back(fmt::format("{:.3g} J ({:.2g}% of the charge's energy) crossed the fine block's cut sides before the map; "
+                                           "raise early.block_margin_m or lower early.signal_speed_m_s's margin (early.map_time_s)",
+                                           leaked, 100.0 * leaked / charge_energy));
+    if (fs_.time() < plan->burn_time_s)
+      early_warnings.push_back(fmt::format("the map time {:.3g} us comes before the burn ends ({:.3g} us): the run mesh finishes the burn",
+                                           1e6 * fs_.time(), 1e6 * plan->burn_time_s));
+    for (const auto& w : early_warnings) say("early time: warning: " + w);
     const auto rz = hydro::mapNested(fs_, s);
     s.startAt(fs_.time(), fs_.energyLedger());
     // the initial energy as the fine run painted the block: the books then close over both runs
@@ -307,6 +332,8 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
                   {"burn_time_s", plan->burn_time_s},
                   {"mapped_run_cells", rz.target_cells},
                   {"mapping_heat_J", cs.symmetry * rz.heat_J},
+                  {"boundary_flux_J", -cs.symmetry * fine_tot.boundary_in},
+                  {"warnings", early_warnings},
                   {"wall_seconds", wall_early}};
     say(fmt::format("early time: mapped {} fine cells onto {} run cells at t = {:.3g} us ({:.1f} s); the kinetic energy one velocity per run cell "
                     "cannot hold, {:.3g} J, is heat",

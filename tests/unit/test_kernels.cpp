@@ -102,7 +102,7 @@ TEST(Kernels, WallFaceLoadsTheBodyAndBooksItsWork) {
   hydro::solveFaces(L.P, L.S, led);
   const double ps = 1e5 + Z * (u - w);
   EXPECT_NEAR(L.P.pstar[static_cast<std::size_t>(wall)], ps, 1e-6);
-  EXPECT_NEAR(led.impulse_on_body[0], ps * 1e-6, 1e-12);
+  EXPECT_NEAR(led.impulse_on_body[0][0], ps * 1e-6, 1e-12);
   EXPECT_NEAR(led.target_work, ps * 1e-6 * w, 1e-10);
 }
 

@@ -75,6 +75,25 @@ TEST(Coupling, FrictionTakesMuTimesTheNormalLoadFromTheSlidingFlow) {
   // one wall face per column, 1 m wide in total, normal stress p (no normal velocity)
   EXPECT_NEAR((a.momentum[0] - b.momentum[0]) / (0.2 * p * 1.0 * dt), 1.0, 1e-6);
   EXPECT_NEAR(b.total() / a.total(), 1.0, 1e-12);   // the lost kinetic energy became heat
+  // the body gains exactly the momentum the flow loses (the target stays momentum-exact)
+  EXPECT_NEAR(s.lastBodyImpulse()[0], a.momentum[0] - b.momentum[0], 1e-12 * a.momentum[0]);
+}
+
+TEST(Coupling, FrictionOnAMovingBodyBooksItsWork) {
+  hydro::SolverOptions o;
+  for (auto& b : o.boundary) b = {BoundaryKind::Periodic, BoundaryKind::Periodic};
+  o.boundary[1] = {BoundaryKind::Reflect, BoundaryKind::Reflect};
+  o.body_friction = 0.2;
+  hydro::Solver s(mesh::Grid(2, mesh::Geometry::Cartesian, {Axis::uniform(0.0, 1.0, 20), Axis::uniform(0.0, 1.0, 20), Axis{}}), {materials::air()}, o);
+  s.paint(0, [](const Vec3&) { return true; }, 1.2, 1e5 / (0.4 * 1.2), {10.0, 0.0, 0.0});
+  s.setBody([](const Vec3& x) { return x[1] > 0.9; });
+  s.setBodyVelocity({4.0, 0.0, 0.0});   // sliding along the flow, slower than it
+  const auto a = s.totals();
+  s.step(0.2 * s.stableTimeStep());
+  const auto b = s.totals();
+  EXPECT_GT(b.target_work, 0.0);
+  EXPECT_NEAR(b.target_work, 4.0 * s.lastBodyImpulse()[0], 1e-12 * b.target_work);
+  EXPECT_NEAR(b.total(), b.accounted(a.total()), 1e-13 * a.total());
 }
 
 TEST(Deck, UnknownKeysAndBadValuesNameTheKey) {
