@@ -495,8 +495,8 @@ void productsIsentrope(const std::vector<int>& levels, Report& rep) {
 // A 40 mm slab of Comp B detonated at a rigid wall, driving EMI sand at 22% moisture (1D planar):
 // each material's total energy (internal + kinetic) and the sand's momentum at 20, 50 and 100 us
 // against the same code at 8x finer cells than the finest level. The error is the largest relative
-// difference over the three times; the finest level's observed order must be >= 0.9 (the
-// scheme's first order at shocks and contacts, with nothing that converges by cancellation).
+// difference over the three times; the order fitted over the levels must be >= 0.9 (the scheme's
+// first order at shocks and contacts, with nothing that converges by cancellation).
 void chargeInWetSand(const std::vector<int>& levels, Report& rep) {
   const Material ex = materials::explosive("CompB");
   const Material sand = materials::sand(materials::SandInputs::fromWetDensity(1370.0 / 1.07 * 1.22, 0.22), "sand");
@@ -552,16 +552,30 @@ void chargeInWetSand(const std::vector<int>& levels, Report& rep) {
         err = std::max(err, std::abs(a - b) / std::abs(b));
       }
       rep.rows.push_back({names[q], "1D", metrics[q], n, cells, err, 0.0, books, q == 0 ? secs : 0.0,
-                          n == levels.back() ? fmt::format("order >= 0.9 (reference: {} cells per slab)", ref_n) : "", false, steps});
+                          "", false, steps});
     }
   }
+  // The order is judged by a least-squares fit of log(error) against log(cells) over every level
+  // (one pair of levels can be pre-asymptotic or cancel between the sampled times); the order
+  // column keeps the pairwise values.
   for (int q = 0; q < 3; ++q) {
     fillOrders(rep.rows, first[static_cast<std::size_t>(q)], names[q]);
-    for (auto it = rep.rows.rbegin(); it != rep.rows.rend(); ++it)
-      if (it->problem == names[q]) {
-        it->passed = it->order >= 0.9;
-        break;
-      }
+    double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0, nn = 0.0;
+    Row* last = nullptr;
+    for (std::size_t r = first[static_cast<std::size_t>(q)]; r < rep.rows.size(); ++r) {
+      if (rep.rows[r].problem != names[q] || !(rep.rows[r].error > 0.0)) continue;
+      const double x = std::log(static_cast<double>(rep.rows[r].resolution)), y = std::log(rep.rows[r].error);
+      sx += x;
+      sy += y;
+      sxx += x * x;
+      sxy += x * y;
+      nn += 1.0;
+      last = &rep.rows[r];
+    }
+    if (!last) continue;
+    const double fit = nn > 1.0 ? -(nn * sxy - sx * sy) / (nn * sxx - sx * sx) : kNaN;
+    last->check = fmt::format("fitted order over {}-{} cells per slab >= 0.9 (reference: {} cells per slab): {:.2f}", levels.front(), levels.back(), ref_n, fit);
+    last->passed = fit >= 0.9;
   }
 }
 
