@@ -48,12 +48,11 @@ materials::SandInputs sandInputs(double wet, double dry, double moisture, const 
 
 Case buildCase(const Deck& deck, const FineBlock* block) {
   const auto& m = deck.mesh;
-  const double h = block ? block->cell_size_m : m.cell_size_m;
-  auto cellsOver = [h](double span) { return std::max(1, static_cast<int>(std::lround(span / h))); };
-  const mesh::Axis r_axis = block ? mesh::Axis::uniform(0.0, block->r_max_m, cellsOver(block->r_max_m))
+  const double h = m.cell_size_m;
+  const mesh::Axis r_axis = block ? mesh::Axis::uniform(0.0, block->r_max_m, block->run_cells_r * block->ratio)
                                   : mesh::Axis::graded(0.0, m.domain_radius_m, 0.0, m.core_radius_m, h, m.grading);
   // the soil surface (z = 0), where a plate at zero standoff rests, is a face at every cell size
-  const mesh::Axis z_axis = block ? mesh::Axis::uniform(block->z_lo_m, block->z_hi_m, cellsOver(block->z_hi_m - block->z_lo_m))
+  const mesh::Axis z_axis = block ? mesh::Axis::uniform(block->z_lo_m, block->z_hi_m, block->run_cells_z * block->ratio)
                                   : mesh::Axis::graded(m.domain_bottom_m, m.domain_top_m, m.core_bottom_m, m.core_top_m, h, m.grading, 0.0);
   Case cs;
   cs.charge = chargeGeometry(deck.charge);

@@ -31,9 +31,13 @@ struct Case {
 };
 
 // A uniform block of the r-z plane meshed on its own (the early-time fine run): [0, r_max] x
-// [z_lo, z_hi] with cells of `cell_size_m`; its cut sides let waves out.
+// [z_lo, z_hi], whole cells of the run's core each divided into `ratio` per axis (so the meshes
+// nest); its cut sides let waves out.
 struct FineBlock {
-  double r_max_m = 0.0, z_lo_m = 0.0, z_hi_m = 0.0, cell_size_m = 0.0;
+  double r_max_m = 0.0, z_lo_m = 0.0, z_hi_m = 0.0;
+  double cell_size_m = 0.0;   // the larger of its two cell widths, m
+  int ratio = 1;              // run cells per fine cell along each axis
+  int run_cells_r = 0, run_cells_z = 0;
 };
 
 // The deck's case on its graded mesh, or (with `block`) on that block alone.

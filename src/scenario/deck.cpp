@@ -258,7 +258,7 @@ Deck parseDeck(const std::string& text, const std::vector<std::string>& override
     range("early.cells_per_charge_height", e.cells_per_charge_height, 4.0, 200.0, "-");
     range("early.map_time_s", e.map_time_s, 0.0, 1e-3, "s");
     range("early.signal_speed_m_s", e.signal_speed_m_s, 1000.0, 20000.0, "m/s");
-    range("early.block_margin_m", e.block_margin_m, 0.01, 2.0, "m");
+    if (e.block_margin_m != 0.0) range("early.block_margin_m", e.block_margin_m, 0.01, 2.0, "m (or 0: automatic)");
   }
   {
     Reader r(top.sub("air"), "air");

@@ -66,7 +66,8 @@ struct EarlySpec {
   double cells_per_charge_height = 20.0; // - the fine block's resolution
   double map_time_s = 0.0;               // s; 0: as late as the block allows
   double signal_speed_m_s = 6000.0;      // m/s, the fastest wave the block must hold by the map time
-  double block_margin_m = 0.25;          // m, the block's reach past the charge (clipped to the uniform core)
+  double block_margin_m = 0.0;           // m, the block's reach past the charge (clipped to the uniform core);
+                                         // 0: the signal speed times four burn times (EMI: 0.21 m)
 };
 
 struct OutputSpec {

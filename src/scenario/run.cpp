@@ -139,30 +139,46 @@ struct EarlyPlan {
 };
 std::optional<EarlyPlan> planEarly(const Deck& deck, const Case& cs) {
   const auto& e = deck.early;
-  const double h = deck.mesh.cell_size_m, H = cs.charge.height_m;
-  if (!e.enabled || cs.vertical != 1 || h * e.cells_per_charge_height <= H * (1.0 + 1e-9)) return std::nullopt;
+  const double H = cs.charge.height_m;
+  const auto& g = cs.solver->grid();
+  if (!e.enabled || cs.vertical != 1) return std::nullopt;
+  // the run's core cells (the radial core is divided evenly, so its width may differ from
+  // mesh.cell_size_m by a fraction; the vertical one is laid from z = 0 at that size)
+  auto widthAt = [&g](int d, double x) {
+    const auto& f = g.axis(d).faces();
+    const int i = std::clamp(static_cast<int>(std::upper_bound(f.begin(), f.end(), x) - f.begin()) - 1, 0, g.cells(d) - 1);
+    return f[static_cast<std::size_t>(i) + 1] - f[static_cast<std::size_t>(i)];
+  };
+  const double wr = widthAt(0, 0.5 * cs.charge.radius_m), wz = widthAt(1, 0.5 * (cs.charge.z_top_m + cs.charge.z_bottom_m));
+  const double h = std::max(wr, wz);
+  if (h * e.cells_per_charge_height <= H * (1.0 + 1e-9)) return std::nullopt;
   EarlyPlan p;
   p.ratio = static_cast<int>(std::ceil(h * e.cells_per_charge_height / H - 1e-9));
   p.block.cell_size_m = h / p.ratio;
-  const auto& g = cs.solver->grid();
-  // the uniform core's faces along axis d: the run of cells of width h around x
+  p.block.ratio = p.ratio;
+  // the uniform core's faces along axis d: the run of cells of the width at x
   auto core = [&](int d, double x) {
     const auto& f = g.axis(d).faces();
     int i = static_cast<int>(std::upper_bound(f.begin(), f.end(), x) - f.begin()) - 1;
     i = std::clamp(i, 0, g.cells(d) - 1);
-    auto uniform = [&](int c) { return c >= 0 && c < g.cells(d) && std::abs(f[static_cast<std::size_t>(c) + 1] - f[static_cast<std::size_t>(c)] - h) < 1e-9 * h; };
+    const double w = f[static_cast<std::size_t>(i) + 1] - f[static_cast<std::size_t>(i)];
+    auto uniform = [&](int c) { return c >= 0 && c < g.cells(d) && std::abs(f[static_cast<std::size_t>(c) + 1] - f[static_cast<std::size_t>(c)] - w) < 1e-9 * w; };
     int lo = i, hi = i;
     while (uniform(lo - 1)) --lo;
     while (uniform(hi + 1)) ++hi;
     return std::vector<double>(f.begin() + lo, f.begin() + hi + 2);
   };
   const auto& ch = cs.charge;
+  const auto ex = materials::explosive(deck.charge.explosive).jwl;
+  p.burn_time_s = std::hypot(ch.radius_m, ch.height_m) / ex.d_cj;
+  // the block scales with the charge: by default it holds the fastest wave for four burn times
+  const double margin = e.block_margin_m > 0.0 ? e.block_margin_m : 4.0 * p.burn_time_s * e.signal_speed_m_s;
   const auto rf = core(0, 0.5 * ch.radius_m), zf = core(1, 0.5 * (ch.z_top_m + ch.z_bottom_m));
   auto firstAtOrAbove = [](const std::vector<double>& f, double x) { const auto it = std::lower_bound(f.begin(), f.end(), x - 1e-12); return it == f.end() ? f.back() : *it; };
   auto lastAtOrBelow = [](const std::vector<double>& f, double x) { auto it = std::upper_bound(f.begin(), f.end(), x + 1e-12); return it == f.begin() ? f.front() : *(it - 1); };
-  p.block.r_max_m = firstAtOrAbove(rf, ch.radius_m + e.block_margin_m);
-  p.block.z_lo_m = lastAtOrBelow(zf, ch.z_bottom_m - e.block_margin_m);
-  p.block.z_hi_m = firstAtOrAbove(zf, ch.z_top_m + e.block_margin_m);
+  p.block.r_max_m = firstAtOrAbove(rf, ch.radius_m + margin);
+  p.block.z_lo_m = lastAtOrBelow(zf, ch.z_bottom_m - margin);
+  p.block.z_hi_m = firstAtOrAbove(zf, ch.z_top_m + margin);
   // No cut side within the ghost layers of a target face: a face of the target on (or next to) a
   // cut would take its load from ghost cells. The block stops short of it instead.
   if (cs.plate.present) {
@@ -177,8 +193,13 @@ std::optional<EarlyPlan> planEarly(const Deck& deck, const Case& cs) {
   }
   const double reach = std::min({p.block.r_max_m - ch.radius_m, ch.z_bottom_m - p.block.z_lo_m, p.block.z_hi_m - ch.z_top_m});
   if (!(reach > 0.0)) return std::nullopt;
-  const auto ex = materials::explosive(deck.charge.explosive).jwl;
-  p.burn_time_s = std::hypot(ch.radius_m, ch.height_m) / ex.d_cj;
+  auto between = [](const std::vector<double>& f, double a, double b) {   // run cells from face a to face b
+    const auto ia = std::lower_bound(f.begin(), f.end(), a - 1e-12), ib = std::lower_bound(f.begin(), f.end(), b - 1e-12);
+    return static_cast<int>(ib - ia);
+  };
+  if (rf.front() != 0.0) return std::nullopt;   // the radial core starts on the axis
+  p.block.run_cells_r = between(rf, 0.0, p.block.r_max_m);
+  p.block.run_cells_z = between(zf, p.block.z_lo_m, p.block.z_hi_m);
   const double t_block = reach / e.signal_speed_m_s;
   p.map_time_s = e.map_time_s > 0.0 ? std::min(e.map_time_s, t_block) : t_block;
   return p;

@@ -58,11 +58,11 @@ err=$("$ejecta" run no-such-deck --out c 2>&1 >/dev/null)
 check "missing deck: exit 2" "[[ $? -eq 2 ]] && grep -q deck <<< \"\$err\""
 check "nothing written by the failures" "[[ ! -e c ]]"
 
-"$ejecta" run dres-3cm --cell-size 10 --set end_time_s=0.0001 --quiet --no-plot --out d > /dev/null 2> d.err
+"$ejecta" run dres-3cm --cell-size 10 --set end_time_s=0.0001 --set early.cells_per_charge_height=8 --quiet --no-plot --out d > /dev/null 2> d.err
 check "a case without a target runs ($(tail -1 d.err))" "[[ $? -eq 0 ]] && [[ -s d/history.csv ]]"
 
 # ejecta sweep: a full factorial over one deck
-"$ejecta" sweep emi-flat-7 --cell-size 25 --set end_time_s=0.0003 --vary target.standoff_m=0,0.05 --out s > s.txt 2> s.err
+"$ejecta" sweep emi-flat-7 --cell-size 25 --set end_time_s=0.0003 --set early.cells_per_charge_height=8 --vary target.standoff_m=0,0.05 --out s > s.txt 2> s.err
 check "sweep exits 0 ($(tail -1 s.err))" "[[ $? -eq 0 ]]"
 check "sweep.csv has both cases" "[[ \$(wc -l < s/sweep.csv) -eq 3 ]] && [[ -s s/sweep.json && -s s/sweep.png ]]"
 err=$("$ejecta" sweep emi-flat-7 --vary target.nonsense=1,2 --out t 2>&1 >/dev/null)
