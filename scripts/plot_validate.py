@@ -22,17 +22,30 @@ def histories(ax, hs):
 
 
 def mesh(p):
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.2))
+    fig, (a1, a2, a3) = plt.subplots(1, 3, figsize=(15, 4.2))
     histories(a1, p["histories"])
     a2.plot(p["cell_mm"], p["impulse_Ns"], "o-", color="tab:blue")
     m = p["mean_Ns"]
     a2.axhline(m, color="k", lw=0.8, label="mean of the finest three")
     a2.axhspan(0.98 * m, 1.02 * m, color="tab:green", alpha=0.15, label="mean +/- 2%")
     a2.set_xlabel("cell size (mm)")
-    a2.set_ylabel("impulse at 10 ms (N s)")
+    a2.set_ylabel("total impulse at 10 ms (N s)")
     a2.invert_xaxis()
     a2.grid(alpha=0.3)
     a2.legend(fontsize=8)
+    # each material's share must converge too, not only the sum
+    for key, label, colour in (("impulse_products_Ns", "detonation products", "tab:red"), ("impulse_soil_Ns", "soil", "tab:olive")):
+        if key in p:
+            v = p[key]
+            a3.plot(p["cell_mm"], v, "o-", color=colour, label=label)
+            fine = v[-3:] if len(v) >= 3 else v
+            mean = sum(fine) / len(fine)
+            a3.axhspan(0.95 * mean, 1.05 * mean, color=colour, alpha=0.12)
+    a3.set_xlabel("cell size (mm)")
+    a3.set_ylabel("impulse by material at 10 ms (N s); band: mean of the finest three +/- 5%")
+    a3.invert_xaxis()
+    a3.grid(alpha=0.3)
+    a3.legend(fontsize=8)
     return fig
 
 
