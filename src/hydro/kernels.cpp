@@ -262,7 +262,7 @@ void closeMixedCell(MixedCell& c, double V, double Vl, double die) {
 }
 
 void lagrangeUpdate(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
-  const int g = kGhost, n = P.n, N = P.N, M = P.M;
+  const int g = kGhost, n = P.n, M = P.M;
   const std::size_t d = static_cast<std::size_t>(S.d);
   const auto& un = P.u[d];
   const double dt = S.dt, grav = S.gravity;
@@ -357,13 +357,12 @@ void lagrangeUpdate(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
   const std::size_t lo = static_cast<std::size_t>(g), hi = static_cast<std::size_t>(g + n);
   if (!P.solid[lo]) ledger.boundary_in += dt * P.area[lo] * (P.pstar[lo] * P.ustar[lo] - shearWork(g));
   if (!P.solid[hi - 1]) ledger.boundary_in -= dt * P.area[hi] * (P.pstar[hi] * P.ustar[hi] - shearWork(g + n));
-  (void)N;
 }
 
 // ------------------------------------------------------------------------------------------------
 
 void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
-  const int g = kGhost, n = P.n, N = P.N, M = P.M;
+  const int g = kGhost, n = P.n, M = P.M;
   const bool second = S.second_order;
   for (int f = g; f <= g + n; ++f) {
     const std::size_t sf = static_cast<std::size_t>(f);
@@ -456,7 +455,6 @@ void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     if (f == g) ledger.boundary_in += eflow;
     if (f == g + n) ledger.boundary_in -= eflow;
   }
-  (void)N;
 }
 
 }  // namespace ejecta::hydro
