@@ -112,11 +112,7 @@ RezoneReport mapNested(const Solver& source, Solver& target) {
           auto& F = target.fieldForSetup(k);
           const std::size_t q = tc * uM + static_cast<std::size_t>(k);
           if (mk[q] <= 0.0) {
-            F.alpha[tc] = 0.0;
-            F.e[tc] = 0.0;
-            F.h0[tc] = 0.0;
-            if (!F.s[0].empty())
-              for (auto& c : F.s) c[tc] = 0.0;
+            F.clearCell(tc);
             continue;
           }
           F.alpha[tc] = vk[q] / vsum;

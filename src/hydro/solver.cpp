@@ -607,11 +607,7 @@ std::size_t Solver::scatterPencil(const Pencil& P, int d, std::size_t base) {
       auto& F = fields_[static_cast<std::size_t>(k)];
       const std::size_t ki = P.at(k, i), kf = P.atFace(k, i);
       if (mk_new[k] <= 0.0) {
-        F.alpha[c] = 0.0;
-        F.e[c] = 0.0;
-        F.h0[c] = 0.0;
-        if (!F.s[0].empty())
-          for (auto& sc : F.s) sc[c] = 0.0;
+        F.clearCell(c);
         continue;
       }
       const double al = vk_new[k] / vs;

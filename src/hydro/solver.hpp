@@ -59,6 +59,11 @@ struct SolverOptions {
 struct MaterialFields {
   std::vector<double> alpha, rho, e, h0;        // -, kg/m3, J/kg, history (burn fraction or x_max)
   std::array<std::vector<double>, 6> s;         // Pa, deviatoric stress xx yy zz xy yz xz (if strength)
+  void clearCell(std::size_t c) {               // the material has left cell c
+    alpha[c] = e[c] = h0[c] = 0.0;
+    if (!s[0].empty())
+      for (auto& sc : s) sc[c] = 0.0;
+  }
 };
 
 // Energy that crossed the block's edges since the start, J (axisymmetric: per radian). With the

@@ -252,6 +252,20 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
   const std::size_t nmat = static_cast<std::size_t>(s.materialCount());
   auto kindIndex = [&](std::size_t k) { const auto& kind = cs.material_kind[k]; return kind == "air" ? 0 : (kind == "products" ? 1 : 2); };
   const double h_interval = deck.output.history_interval_s;
+  // What one step of `solver` gave the target, net of the load at rest, per material kind; and
+  // the free plate's motion. The early time's fine run and the run itself book it alike.
+  auto bookTargetLoad = [&](const hydro::Solver& solver, double static_force, double dt) {
+    const double iz = cs.symmetry * solver.lastBodyImpulse()[up] - static_force * dt;
+    st.impulse += iz;
+    if (cs.plate.present)
+      for (std::size_t k = 0; k < nmat; ++k) st.impulse_kind[static_cast<std::size_t>(kindIndex(k))] += cs.symmetry * solver.lastBodyImpulseByMaterial()[k][up];
+    st.impulse_kind[0] -= static_force * dt;   // the static load is the air's
+    st.peak_force = std::max(st.peak_force, std::abs(iz / dt));
+    if (free_plate) {
+      st.plate_v += iz / deck.target.mass_kg - g_acc * dt;
+      st.plate_z += st.plate_v * dt;
+    }
+  };
 
   auto record = [&]() {
     const double force = s.lastDt() > 0.0 ? cs.symmetry * s.lastBodyImpulse()[up] / s.lastDt() - st.static_force : 0.0;
@@ -305,16 +319,7 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
       vb[up] = st.plate_v;
       fs_.setBodyVelocity(vb);
       fs_.step(dt);
-      const double iz = cs.symmetry * fs_.lastBodyImpulse()[up] - static_fine * dt;
-      st.impulse += iz;
-      if (cs.plate.present)
-        for (std::size_t k = 0; k < nmat; ++k) st.impulse_kind[static_cast<std::size_t>(kindIndex(k))] += cs.symmetry * fs_.lastBodyImpulseByMaterial()[k][up];
-      st.impulse_kind[0] -= static_fine * dt;
-      st.peak_force = std::max(st.peak_force, std::abs(iz / dt));
-      if (free_plate) {
-        st.plate_v += iz / deck.target.mass_kg - g_acc * dt;
-        st.plate_z += st.plate_v * dt;
-      }
+      bookTargetLoad(fs_, static_fine, dt);
       const auto now = std::chrono::steady_clock::now();
       if (opt.progress && std::chrono::duration<double>(now - last).count() > 2.0) {
         last = now;
@@ -386,16 +391,7 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
       st.static_force = static_run;
       st.static_known = true;
     }
-    const double iz = cs.symmetry * s.lastBodyImpulse()[up] - st.static_force * dt;
-    st.impulse += iz;
-    if (cs.plate.present)
-      for (std::size_t k = 0; k < nmat; ++k) st.impulse_kind[static_cast<std::size_t>(kindIndex(k))] += cs.symmetry * s.lastBodyImpulseByMaterial()[k][up];
-    st.impulse_kind[0] -= st.static_force * dt;   // the static load is the air's
-    st.peak_force = std::max(st.peak_force, std::abs(iz / dt));
-    if (free_plate) {
-      st.plate_v += iz / deck.target.mass_kg - g_acc * dt;
-      st.plate_z += st.plate_v * dt;
-    }
+    bookTargetLoad(s, st.static_force, dt);
     const double t = s.time();
     if (t >= st.next_history + h_interval * (1.0 - 1e-9) || t >= t_end * (1.0 - 1e-12)) {
       st.next_history = t;
