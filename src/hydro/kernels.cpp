@@ -136,6 +136,21 @@ void solveFaces(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
 
 // ------------------------------------------------------------------------------------------------
 
+// Work done on a material whose volume v0 changes by dv, starting at pressure p with bulk modulus
+// K: -p dv when compressed (the 95% clamp bounds it), and along the local polytrope p v^G =
+// const, G = K/p, when it expands. A small fraction of gas in an expanding cell takes most of
+// the cell's volume change, often many times its own volume in one step: charged p dv at its
+// starting pressure it would give away more than it holds and end below zero energy, where its
+// pressure is cut to zero and the energy it owes never comes back. Along the polytrope it gives
+// at most p v0 / (G - 1), which for an ideal gas (and JWL products far out) is all it holds.
+double expansionWork(double p, double K, double v0, double dv) {
+  if (!(dv > 0.0) || !(p > 0.0) || !(v0 > 0.0)) return -p * dv;
+  const double x = dv / v0;
+  const double gm1 = std::max(K / p - 1.0, 1e-6);
+  if (gm1 * x < 1e-6) return -p * dv * (1.0 - 0.5 * (gm1 + 1.0) * x);   // series for small steps
+  return -p * v0 * (1.0 - std::pow(1.0 + x, -gm1)) / gm1;
+}
+
 void closeMixedCell(MixedCell& c, double V, double Vl, double die) {
   const int M = c.M;
   const double dV = Vl - V;
@@ -185,7 +200,7 @@ void closeMixedCell(MixedCell& c, double V, double Vl, double die) {
   for (int k = 0; k < M; ++k) {
     c.v[k] = c.alpha[k] * V + dv[k];
     if (c.alpha[k] > kAlphaMin) {
-      const double wk = -c.p[k] * dv[k];
+      const double wk = expansionWork(c.p[k], c.K[k], c.alpha[k] * V, dv[k]);
       c.ie[k] += wk;
       work += wk;
     }
@@ -217,9 +232,20 @@ void closeMixedCell(MixedCell& c, double V, double Vl, double die) {
     relax_heat += c.p[k] * dk;
     if (dk < 0.0) squeezed -= dk;
   }
-  // ...and what the expanding ones gave beyond that heats the ones they compressed
-  for (int k = 0; k < M; ++k)
-    if (dk_all[k] < 0.0) c.ie[k] += relax_heat * (-dk_all[k] / squeezed);
+  // ...and what the expanding ones gave beyond that heats the ones they compressed, by their volume
+  // lost but never more than twice the cell's mean per unit mass (shareHeat): a film of air with
+  // almost no mass left would otherwise be heated without bound (1e10 J/kg), and its sound speed
+  // would set the time step
+  if (squeezed > 0.0) {
+    double mass_present[kMaxMaterials] = {}, by_volume[kMaxMaterials] = {}, add[kMaxMaterials] = {};
+    for (int k = 0; k < M; ++k) {
+      if (c.alpha[k] <= kAlphaMin) continue;
+      mass_present[k] = c.m[k];
+      if (dk_all[k] < 0.0) by_volume[k] = relax_heat * (-dk_all[k] / squeezed);
+    }
+    shareHeat(M, mass_present, by_volume, relax_heat, c.ie, add);
+    for (int k = 0; k < M; ++k) c.ie[k] += add[k];
+  }
   if (squeezed <= 0.0) work -= relax_heat;   // nothing exchanged: relax_heat is 0 up to round-off; keep it booked
   // keep the material volumes summing to the cell's
   double vs = 0.0;

@@ -101,6 +101,9 @@ struct MixedCell {
   double alpha[kMaxMaterials], p[kMaxMaterials], K[kMaxMaterials], m[kMaxMaterials], ie[kMaxMaterials];
   double v[kMaxMaterials];   // out: volumes, summing to Vl
 };
+// Work on a material of volume v0 at pressure p, bulk modulus K, whose volume changes by dv (J):
+// -p dv in compression, along the local polytrope p v^(K/p) = const in expansion.
+double expansionWork(double p, double K, double v0, double dv);
 void closeMixedCell(MixedCell& c, double V, double Vl, double die);
 
 // Remap fluxes through faces g .. g+n: each material's volume (THINC profile weighted by the

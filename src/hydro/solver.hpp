@@ -39,7 +39,7 @@ struct DetonationPoint {
 // Revision of the numerics: raised whenever a change alters results (2: products' adiabat;
 // 3: no adiabat, energy conserved with a ledger, mixed-cell heat by compression, the sand's energy
 // term). `ejecta validate --reuse` reruns a case saved by another revision.
-inline constexpr int kSolverRevision = 3;
+inline constexpr int kSolverRevision = 4;
 
 struct SolverOptions {
   double cfl = 0.45;                     // - Courant number of each sweep
