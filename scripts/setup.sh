@@ -3,7 +3,7 @@
 # downloaded at build or run time.
 set -euo pipefail
 packages=(build-essential cmake ninja-build pkg-config libfmt-dev libcli11-dev nlohmann-json3-dev
-          libtomlplusplus-dev libgtest-dev libbenchmark-dev python3 python3-matplotlib python3-numpy)
+          libtomlplusplus-dev zlib1g-dev libgtest-dev libbenchmark-dev python3 python3-matplotlib python3-numpy)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

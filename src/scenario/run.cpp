@@ -16,6 +16,7 @@
 #include "core/error.hpp"
 #include "ejecta/build_info.hpp"
 #include "io/subprocess.hpp"
+#include "io/checkpoint.hpp"
 #include "io/vtk.hpp"
 #include "hydro/rezone.hpp"
 #include "scenario/case.hpp"
@@ -93,6 +94,20 @@ void getState(std::istream& is, DriverState& s) {
   s.profile_times = getList(is);
   s.profiles = getTable(is);
   s.field_times = getList(is);
+}
+
+// What ties a checkpoint to its deck and build. The deck digest leaves out end_time_s and the
+// output settings: a restart may run longer or write other outputs, but not change the physics.
+io::CheckpointHeader checkpointHeader(const Deck& deck, double t) {
+  auto physics = deck.echo;
+  physics.erase("end_time_s");
+  physics.erase("output");
+  io::CheckpointHeader h;
+  h.solver_revision = static_cast<std::uint32_t>(hydro::kSolverRevision);
+  h.deck_digest = io::crc32Of(physics.dump());
+  h.build_digest = io::buildDigest();
+  h.time_s = t;
+  return h;
 }
 
 // Height of the soil surface in each column along the first horizontal axis (r; x at y = 0 in 3D):
@@ -231,8 +246,7 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
   std::vector<std::size_t> gauge_cells;
   for (const auto& p : deck.output.gauges_m) gauge_cells.push_back(cellAt(g, cs.vertical, p[0], p[1]));
   if (!opt.restart.empty()) {
-    std::ifstream in(opt.restart, std::ios::binary);
-    if (!in) throw InputError("restart", fmt::format("cannot read '{}'", opt.restart));
+    std::istringstream in(io::readCheckpointFile(opt.restart, checkpointHeader(deck, 0.0), nullptr));
     s.readCheckpoint(in);
     getState(in, st);
     if (!in) throw InputError("restart", "the checkpoint is truncated");
@@ -407,10 +421,10 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
       ++st.next_field;
     }
     if (opt.checkpoint_at_s > 0.0 && !st.checkpoint_written && t >= opt.checkpoint_at_s * (1.0 - 1e-12)) {
-      io::writeFileAtomically(out / "checkpoint.bin", [&](std::ostream& os) {
-        s.writeCheckpoint(os);
-        putState(os, st);
-      });
+      std::ostringstream payload;
+      s.writeCheckpoint(payload);
+      putState(payload, st);
+      io::writeCheckpointFile((out / "checkpoint.bin").string(), checkpointHeader(deck, t), payload.str());
       st.checkpoint_written = true;
       say(fmt::format("wrote checkpoint at t = {:.6g} s", t));
     }

@@ -54,6 +54,22 @@ err=$("$ejecta" run "${common[@]}" --set soil.99999999999999999999.moisture=0.1 
 check "huge list index: exit 2 naming the key" "[[ $? -eq 2 ]] && grep -q 'soil.99999999999999999999' <<< \"\$err\""
 err=$("$ejecta" run "${common[@]}" --restart a/checkpoint.bin --set end_time_s=0.0002 --out c 2>&1 >/dev/null)
 check "restart with an end before the checkpoint: exit 2" "[[ $? -eq 2 ]] && grep -q end_time_s <<< \"\$err\""
+# a checkpoint is tied to its deck and is checked: another deck, a flipped byte, a cut file,
+# something that is not a checkpoint are all refused with exit 2 naming why
+err=$("$ejecta" run emi-flat-22 --cell-size 25 --set end_time_s=0.0006 --set early.cells_per_charge_height=8 --quiet --restart a/checkpoint.bin --out c 2>&1 >/dev/null)
+check "restart with another deck: exit 2 naming the deck" "[[ $? -eq 2 ]] && grep -q 'another deck' <<< \"\$err\""
+cp a/checkpoint.bin flipped.bin
+size=$(stat -c %s flipped.bin)
+printf '\xff' | dd of=flipped.bin bs=1 seek=$((size / 2)) conv=notrunc status=none
+err=$("$ejecta" run "${common[@]}" --restart flipped.bin --out c 2>&1 >/dev/null)
+check "restart from a damaged checkpoint: exit 2 (checksum)" "[[ $? -eq 2 ]] && grep -q checksum <<< \"\$err\""
+head -c $((size - 100)) a/checkpoint.bin > cut.bin
+err=$("$ejecta" run "${common[@]}" --restart cut.bin --out c 2>&1 >/dev/null)
+check "restart from a truncated checkpoint: exit 2" "[[ $? -eq 2 ]] && grep -q truncated <<< \"\$err\""
+err=$("$ejecta" run "${common[@]}" --restart a/summary.json --out c 2>&1 >/dev/null)
+check "restart from a file that is not a checkpoint: exit 2" "[[ $? -eq 2 ]] && grep -q 'not an ejecta checkpoint' <<< \"\$err\""
+"$ejecta" run "${common[@]}" --restart a/checkpoint.bin --set end_time_s=0.0007 --set 'output.field_times_s=[0.00065]' --out e --no-plot > /dev/null 2> e.err
+check "restart running longer with other outputs is allowed ($(tail -1 e.err))" "[[ $? -eq 0 ]]"
 err=$("$ejecta" run no-such-deck --out c 2>&1 >/dev/null)
 check "missing deck: exit 2" "[[ $? -eq 2 ]] && grep -q deck <<< \"\$err\""
 check "nothing written by the failures" "[[ ! -e c ]]"

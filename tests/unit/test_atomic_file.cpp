@@ -5,6 +5,8 @@
 #include <stdexcept>
 
 #include "core/atomic_file.hpp"
+#include "io/checkpoint.hpp"
+#include "core/error.hpp"
 
 namespace fs = std::filesystem;
 
@@ -48,4 +50,45 @@ TEST(AtomicFile, TransactionWithoutCommitRemovesStagedFiles) {
   EXPECT_TRUE(fs::exists(d / "one.csv"));
   EXPECT_EQ(std::distance(fs::directory_iterator(d), fs::directory_iterator{}), 1);
   fs::remove_all(d);
+}
+
+// The checkpoint envelope: a checkpoint from another build, solver revision or deck, or a damaged
+// one, is refused with an InputError (exit 2) that says which.
+TEST(CheckpointFile, RoundTripsAndRefusesAnotherBuildRevisionDeckOrDamage) {
+  const auto dir = freshDir("checkpoint");
+  const std::string path = (dir / "c.bin").string();
+  ejecta::io::CheckpointHeader h;
+  h.solver_revision = 7;
+  h.deck_digest = 0x1234u;
+  h.build_digest = 0xabcdu;
+  h.time_s = 1.5e-3;
+  const std::string payload = "fields and accumulators";
+  ejecta::io::writeCheckpointFile(path, h, payload);
+  double t = 0.0;
+  EXPECT_EQ(ejecta::io::readCheckpointFile(path, h, &t), payload);
+  EXPECT_EQ(t, 1.5e-3);
+  const auto refusedWith = [&](ejecta::io::CheckpointHeader e, const std::string& words) {
+    try {
+      ejecta::io::readCheckpointFile(path, e, nullptr);
+    } catch (const ejecta::InputError& err) {
+      return std::string(err.what()).find(words) != std::string::npos;
+    }
+    return false;
+  };
+  auto other = h;
+  other.build_digest = 0xabceu;
+  EXPECT_TRUE(refusedWith(other, "another build"));
+  other = h;
+  other.solver_revision = 8;
+  EXPECT_TRUE(refusedWith(other, "solver revision 7"));
+  other = h;
+  other.deck_digest = 0x1235u;
+  EXPECT_TRUE(refusedWith(other, "another deck"));
+  {   // one byte of the payload flipped
+    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(-3, std::ios::end);
+    f.put('X');
+  }
+  EXPECT_TRUE(refusedWith(h, "checksum"));
+  std::filesystem::remove_all(dir);
 }

@@ -1,0 +1,34 @@
+#pragma once
+// The checkpoint file's envelope: what ties a checkpoint to the deck and the build that wrote it.
+// Layout (little-endian, as the machine writes it):
+//   8 bytes magic "EJCKPT\0\0", u32 format version, u32 solver revision, u32 deck digest,
+//   u32 build digest, f64 time (s), u64 payload length, u32 payload CRC-32, payload.
+// The payload (the solver's fields and the driver's accumulators) is opaque here.
+#include <cstdint>
+#include <string>
+
+namespace ejecta::io {
+
+inline constexpr std::uint32_t kCheckpointFormat = 2;
+
+struct CheckpointHeader {
+  std::uint32_t format = kCheckpointFormat;
+  std::uint32_t solver_revision = 0;
+  std::uint32_t deck_digest = 0;    // CRC-32 of the resolved deck without end_time_s and output
+  std::uint32_t build_digest = 0;   // CRC-32 of the executable that wrote it
+  double time_s = 0.0;
+};
+
+std::uint32_t crc32Of(const std::string& bytes);
+// CRC-32 of this process's executable (/proc/self/exe): a rebuild that changes the code changes it.
+// Falls back to the CRC of the version string where the executable cannot be read.
+std::uint32_t buildDigest();
+
+// Writes the envelope and the payload to `path` atomically.
+void writeCheckpointFile(const std::string& path, const CheckpointHeader& h, const std::string& payload);
+// Reads and checks a checkpoint: refused (InputError on "restart", exit 2) when it is not a
+// checkpoint, of another format, truncated, damaged (CRC), or written by another deck, solver
+// revision or build. Returns the payload.
+std::string readCheckpointFile(const std::string& path, const CheckpointHeader& expected, double* time_s);
+
+}  // namespace ejecta::io
