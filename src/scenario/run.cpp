@@ -1,6 +1,9 @@
 #include "scenario/run.hpp"
 
 #include <algorithm>
+#include <cerrno>
+#include <csignal>
+#include <cstdlib>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -10,6 +13,8 @@
 #include <sstream>
 
 #include <fmt/format.h>
+#include <sys/types.h>
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include "core/atomic_file.hpp"
@@ -225,14 +230,12 @@ std::string csvRow(const std::vector<double>& v) {
   for (std::size_t i = 0; i < v.size(); ++i) s += fmt::format("{}{:.9g}", i ? "," : "", v[i]);
   return s + "\n";
 }
-}  // namespace
 
-RunResult runCase(const Deck& deck, const RunOptions& opt) {
+// Runs the case into `out`, a staging folder that runCase swaps into place when the run ends.
+RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out) {
   auto say = [&](const std::string& m) {
     if (opt.log) opt.log(m);
   };
-  const fs::path out(opt.out_dir);
-  if (fs::exists(out) && !fs::is_directory(out)) throw InputError("out", fmt::format("'{}' exists and is not a directory", opt.out_dir));
   if (opt.checkpoint_at_s > 0.0 && !(opt.checkpoint_at_s < deck.end_time_s))
     throw InputError("checkpoint-at", fmt::format("{:g} s is out of range; valid (0, end_time_s = {:g}) s", opt.checkpoint_at_s, deck.end_time_s));
   Case cs = buildCase(deck);   // validates everything before the run folder is touched
@@ -257,6 +260,16 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
     say(fmt::format("restarted from {} at t = {:.6g} s", opt.restart, s.time()));
   }
   fs::create_directories(out / "fields");
+  if (!opt.restart.empty()) {
+    // The snapshots before the checkpoint belong to this run too: copied from the checkpoint's
+    // folder where they are there; fields.pvd lists only the snapshots the folder holds.
+    const fs::path from = fs::path(opt.restart).parent_path() / "fields";
+    for (std::size_t i = 0; i < st.field_times.size(); ++i) {
+      const std::string name = fmt::format("field_{:04d}.vtr", i);
+      std::error_code ec;
+      if (fs::is_regular_file(from / name, ec)) fs::copy_file(from / name, out / "fields" / name, fs::copy_options::overwrite_existing);
+    }
+  }
 
   const bool free_plate = cs.plate.present && deck.target.motion == "free";
   const double g_acc = deck.gravity ? 9.81 : 0.0;
@@ -480,7 +493,10 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
     }
   });
   std::vector<std::pair<double, std::string>> snaps;
-  for (std::size_t i = 0; i < st.field_times.size(); ++i) snaps.push_back({st.field_times[i], fmt::format("fields/field_{:04d}.vtr", i)});
+  for (std::size_t i = 0; i < st.field_times.size(); ++i) {
+    const std::string name = fmt::format("fields/field_{:04d}.vtr", i);
+    if (fs::exists(out / name)) snaps.push_back({st.field_times[i], name});
+  }
   io::writeFileAtomically(out / "fields.pvd", [&](std::ostream& os) { io::writePvd(os, snaps); });
   nlohmann::json sum;
   sum["ejecta_version"] = build_info::version;
@@ -563,6 +579,56 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
       throw;
     }
     fs::remove(data);
+  }
+  return res;
+}
+
+bool processAlive(long pid) { return pid > 0 && (::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM); }
+
+}  // namespace
+
+// A run folder is written as one unit: the run writes into a hidden staging folder beside it
+// (.NAME.staging-PID), which replaces the folder only when the run has ended well. A failed or
+// interrupted run leaves the previous complete folder as it was (and a killed one's staging
+// folder is removed by the next run into the same place).
+RunResult runCase(const Deck& deck, const RunOptions& opt) {
+  fs::path out = fs::path(opt.out_dir).lexically_normal();
+  if (out.filename().empty()) out = out.parent_path();
+  if (out.empty() || out.filename() == "." || out.filename() == "..")
+    throw InputError("out", fmt::format("'{}' does not name a folder to write", opt.out_dir));
+  if (fs::exists(out) && !fs::is_directory(out)) throw InputError("out", fmt::format("'{}' exists and is not a directory", opt.out_dir));
+  const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
+  // (built by append: GCC 12 warns falsely, -Wrestrict, on "." + name + "...")
+  std::string prefix(1, '.');
+  prefix.append(out.filename().string()).append(".staging-");
+  std::string old_name(1, '.');
+  old_name.append(out.filename().string()).append(".old-").append(std::to_string(static_cast<long>(::getpid())));
+  std::error_code ec;
+  if (fs::is_directory(parent, ec))
+    for (const auto& entry : fs::directory_iterator(parent, ec)) {
+      const std::string name = entry.path().filename().string();
+      if (name.rfind(prefix, 0) != 0) continue;
+      char* end = nullptr;
+      const long pid = std::strtol(name.c_str() + prefix.size(), &end, 10);
+      if (end && *end == '\0' && !processAlive(pid)) fs::remove_all(entry.path(), ec);
+    }
+  const fs::path stage = parent / (prefix + std::to_string(static_cast<long>(::getpid())));
+  fs::remove_all(stage, ec);
+  RunResult res;
+  try {
+    res = runStaged(deck, opt, stage);
+  } catch (...) {
+    fs::remove_all(stage, ec);
+    throw;
+  }
+  if (fs::exists(out)) {
+    const fs::path old = parent / old_name;
+    fs::remove_all(old, ec);
+    fs::rename(out, old);
+    fs::rename(stage, out);
+    fs::remove_all(old);
+  } else {
+    fs::rename(stage, out);
   }
   return res;
 }

@@ -77,6 +77,22 @@ check "nothing written by the failures" "[[ ! -e c ]]"
 "$ejecta" run dres-3cm --cell-size 10 --set end_time_s=0.0001 --set early.cells_per_charge_height=8 --quiet --no-plot --out d > /dev/null 2> d.err
 check "a case without a target runs ($(tail -1 d.err))" "[[ $? -eq 0 ]] && [[ -s d/history.csv ]]"
 
+# A run folder is one unit. b (a restart) lists in fields.pvd only snapshots it holds (copied from a).
+check "restart: every snapshot fields.pvd lists is in the folder" "grep -o 'fields/field_[0-9]*.vtr' b/fields.pvd | while read f; do [[ -s b/\$f ]] || exit 1; done"
+# An interrupted rerun leaves the previous complete folder as it was...
+cp a/summary.json a-summary.json
+"$ejecta" run "${common[@]}" --set end_time_s=0.01 --out a > /dev/null 2>&1 &
+pid=$!
+sleep 4
+kill -9 $pid 2> /dev/null
+wait $pid 2> /dev/null
+check "a killed rerun leaves the old folder intact" "cmp -s a/summary.json a-summary.json && [[ -s a/checkpoint.bin && -s a/fields/field_0000.vtr ]]"
+# ...and a finished rerun replaces it whole: no stale checkpoint or snapshot of the earlier run,
+# and the killed run's staging folder is cleared
+"$ejecta" run "${common[@]}" --set 'output.field_times_s=[]' --out a --no-plot > /dev/null 2> a2.err
+check "a rerun replaces the folder whole ($(tail -1 a2.err))" "[[ $? -eq 0 && -s a/summary.json && ! -e a/checkpoint.bin && ! -e a/fields/field_0000.vtr && ! -e a/plots.png ]]"
+check "no staging folders left" "[[ -z \$(ls -A | grep staging) ]]"
+
 # ejecta sweep: a full factorial over one deck
 "$ejecta" sweep emi-flat-7 --cell-size 25 --set end_time_s=0.0003 --set early.cells_per_charge_height=8 --vary target.standoff_m=0,0.05 --out s > s.txt 2> s.err
 check "sweep exits 0 ($(tail -1 s.err))" "[[ $? -eq 0 ]]"
