@@ -1,5 +1,6 @@
 // ejecta: buried-charge loading of vehicle underbodies. One program, several sub-commands.
 #include <iostream>
+#include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -14,6 +15,16 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   std::vector<ejecta::cli::Action> actions{ejecta::cli::addSoilCommand(app), ejecta::cli::addVerifyCommand(app), ejecta::cli::addRunCommand(app), ejecta::cli::addSweepCommand(app),
                                            ejecta::cli::addValidateCommand(app)};
+  // An empty value ("" or --opt=) never means the default: it is refused, naming the option.
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool empty_inline = arg.size() > 2 && arg.rfind("--", 0) == 0 && arg.back() == '=';
+    if (arg.empty() || empty_inline) {
+      const std::string opt = empty_inline ? arg.substr(0, arg.size() - 1) : (i > 1 && argv[i - 1][0] == '-' ? argv[i - 1] : "an argument");
+      std::cerr << "ejecta: error: " << opt << ": an empty value is not allowed (see ejecta --help)\n";
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

@@ -1,5 +1,6 @@
 #include "scenario/deck.hpp"
 
+#include <filesystem>
 #include <cmath>
 #include <set>
 #include <sstream>
@@ -353,6 +354,15 @@ Deck parseDeck(const std::string& text, const std::vector<std::string>& override
 }
 
 Deck loadDeck(const std::string& path, const std::vector<std::string>& overrides) {
+  // A deck is a small text file: a device, a FIFO or a huge file is refused before it is read
+  // (reading /dev/zero would otherwise grow without bound).
+  constexpr std::uintmax_t kMaxDeckBytes = 1u << 20;
+  std::error_code ec;
+  const auto st = std::filesystem::status(path, ec);
+  if (!ec && std::filesystem::exists(st) && !std::filesystem::is_regular_file(st))
+    throw InputError("deck", fmt::format("'{}' is not a regular file", path));
+  if (const auto size = std::filesystem::file_size(path, ec); !ec && size > kMaxDeckBytes)
+    throw InputError("deck", fmt::format("'{}' is {} bytes; a deck is at most {} bytes", path, size, kMaxDeckBytes));
   const auto text = io::readWholeFile(path);
   if (!text) throw InputError("deck", fmt::format("cannot read '{}'", path));
   return parseDeck(*text, overrides, path);

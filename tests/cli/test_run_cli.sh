@@ -70,6 +70,15 @@ err=$("$ejecta" run "${common[@]}" --restart a/summary.json --out c 2>&1 >/dev/n
 check "restart from a file that is not a checkpoint: exit 2" "[[ $? -eq 2 ]] && grep -q 'not an ejecta checkpoint' <<< \"\$err\""
 "$ejecta" run "${common[@]}" --restart a/checkpoint.bin --set end_time_s=0.0007 --set 'output.field_times_s=[0.00065]' --out e --no-plot > /dev/null 2> e.err
 check "restart running longer with other outputs is allowed ($(tail -1 e.err))" "[[ $? -eq 0 ]]"
+err=$("$ejecta" run emi-flat-7 --cell-size '' --out c 2>&1 >/dev/null)
+check "an empty option value: exit 2 naming the option" "[[ $? -eq 2 ]] && grep -q -- '--cell-size' <<< \"\$err\""
+err=$("$ejecta" run emi-flat-7 --threads= --out c 2>&1 >/dev/null)
+check "an empty --opt= value: exit 2 naming the option" "[[ $? -eq 2 ]] && grep -q -- '--threads' <<< \"\$err\""
+err=$(timeout 20 "$ejecta" run /dev/zero --out c 2>&1 >/dev/null)
+check "a device as the deck: exit 2 at once" "[[ $? -eq 2 ]] && grep -q 'not a regular file' <<< \"\$err\""
+head -c 2000000 /dev/zero | tr '\0' '#' > big.toml
+err=$("$ejecta" run big.toml --out c 2>&1 >/dev/null)
+check "a deck over 1 MiB: exit 2" "[[ $? -eq 2 ]] && grep -q 'at most' <<< \"\$err\""
 err=$("$ejecta" run no-such-deck --out c 2>&1 >/dev/null)
 check "missing deck: exit 2" "[[ $? -eq 2 ]] && grep -q deck <<< \"\$err\""
 check "nothing written by the failures" "[[ ! -e c ]]"
