@@ -1,6 +1,7 @@
 #include "scenario/deck.hpp"
 
 #include <filesystem>
+#include <limits>
 #include <cmath>
 #include <set>
 #include <sstream>
@@ -347,6 +348,33 @@ Deck parseDeck(const std::string& text, const std::vector<std::string>& override
   const double top_of_charge = -d.charge.depth_of_burial_m;
   if (top_of_charge - 0.2 < d.mesh.domain_bottom_m)
     throw InputError("charge.depth_of_burial_m", "the charge lies outside (or too near the bottom of) the domain");
+  // The soil's geometry must mean what the deck says. The ground is z = 0: the depth of burial,
+  // the standoff and the backfill are measured from it, so the highest layer's top is 0. Layers
+  // lie inside the domain and do not overlap, and the charge is buried in one of them.
+  double ground = -std::numeric_limits<double>::infinity();
+  bool charge_in_soil = false;
+  for (std::size_t i = 0; i < d.soil.size(); ++i) {
+    const auto& l = d.soil[i];
+    const std::string key = fmt::format("soil.{}", i);
+    if (l.bottom_m < d.mesh.domain_bottom_m - 1e-9 || l.top_m > d.mesh.domain_top_m + 1e-9)
+      throw InputError(key + ".top_m", fmt::format("the layer [{:g}, {:g}] m lies outside the domain [{:g}, {:g}] m", l.bottom_m, l.top_m,
+                                                   d.mesh.domain_bottom_m, d.mesh.domain_top_m));
+    ground = std::max(ground, l.top_m);
+    for (std::size_t j = 0; j < i; ++j) {
+      const auto& o = d.soil[j];
+      if (l.top_m > o.bottom_m + 1e-9 && o.top_m > l.bottom_m + 1e-9)
+        throw InputError(key + ".top_m", fmt::format("the layer [{:g}, {:g}] m overlaps soil.{} [{:g}, {:g}] m; stack layers top to bottom", l.bottom_m,
+                                                     l.top_m, j, o.bottom_m, o.top_m));
+    }
+    const double zc = top_of_charge - 1e-9;
+    if (zc < l.top_m + 1e-9 && zc > l.bottom_m) charge_in_soil = true;
+  }
+  if (!d.soil.empty() && std::abs(ground) > 1e-9)
+    throw InputError("soil.0.top_m", fmt::format("the highest soil layer's top is {:g} m; the ground is z = 0 m (the depth of burial, the "
+                                                 "standoff and the backfill are measured from it), so it must be 0",
+                                                 ground));
+  if (!d.soil.empty() && !charge_in_soil)
+    throw InputError("charge.depth_of_burial_m", "the charge's top is not inside any soil layer");
   std::stringstream js;
   js << toml::json_formatter{root};
   d.echo = nlohmann::json::parse(js.str());

@@ -79,6 +79,15 @@ check "a device as the deck: exit 2 at once" "[[ $? -eq 2 ]] && grep -q 'not a r
 head -c 2000000 /dev/zero | tr '\0' '#' > big.toml
 err=$("$ejecta" run big.toml --out c 2>&1 >/dev/null)
 check "a deck over 1 MiB: exit 2" "[[ $? -eq 2 ]] && grep -q 'at most' <<< \"\$err\""
+# the soil's geometry must mean what the deck says
+err=$("$ejecta" run emi-flat-7 --set soil.0.top_m=5 --set soil.0.bottom_m=4 --out c 2>&1 >/dev/null)
+check "soil wholly above the domain: exit 2 naming the layer" "[[ $? -eq 2 ]] && grep -q 'soil.0.top_m' <<< \"\$err\""
+err=$("$ejecta" run emi-flat-7 --set soil.0.top_m=-0.5 --out c 2>&1 >/dev/null)
+check "soil whose top is not the ground (the charge would float): exit 2" "[[ $? -eq 2 ]] && grep -q 'ground is z = 0' <<< \"\$err\""
+sed 's/^bottom_m = -0.85/bottom_m = -0.30/' "$(dirname "$ejecta")/../../decks/emi-flat-7.toml" > two.toml
+printf '\n[[soil]]\nname = "lower"\nwet_density_kg_m3 = 1370.0\nmoisture = 0.07\ntop_m = -0.2\nbottom_m = -0.85\nradius_m = 0.315\n' >> two.toml
+err=$("$ejecta" run two.toml --out c 2>&1 >/dev/null)
+check "overlapping soil layers: exit 2 naming them" "[[ $? -eq 2 ]] && grep -q 'overlaps soil.0' <<< \"\$err\""
 err=$("$ejecta" run no-such-deck --out c 2>&1 >/dev/null)
 check "missing deck: exit 2" "[[ $? -eq 2 ]] && grep -q deck <<< \"\$err\""
 check "nothing written by the failures" "[[ ! -e c ]]"

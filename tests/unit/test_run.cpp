@@ -1,9 +1,11 @@
 // The target coupling and the decks of `ejecta run`: momentum conservation, the reflected
 // pressure of a shock on a fixed plate, and deck errors that name the key.
+#include <filesystem>
 #include <gtest/gtest.h>
 
 #include <cmath>
 
+#include "ejecta/build_info.hpp"
 #include "core/error.hpp"
 #include "hydro/solver.hpp"
 #include "scenario/case.hpp"
@@ -181,3 +183,15 @@ TEST(Deck, SetOverridesAField) {
 }
 
 }  // namespace
+
+// Every shipped deck loads: its keys are known, its values in range, its geometry consistent.
+TEST(Decks, EveryShippedDeckLoads) {
+  int n = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(ejecta::build_info::decks_dir)) {
+    if (entry.path().extension() != ".toml") continue;
+    SCOPED_TRACE(entry.path().string());
+    EXPECT_NO_THROW(ejecta::scenario::loadDeck(entry.path().string()));
+    ++n;
+  }
+  EXPECT_GE(n, 14);
+}
