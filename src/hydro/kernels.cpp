@@ -137,13 +137,23 @@ void solveFaces(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
 // ------------------------------------------------------------------------------------------------
 
 // Work done on a material whose volume v0 changes by dv, starting at pressure p with bulk modulus
-// K: -p dv when compressed (the 95% clamp bounds it), and along the local polytrope p v^G =
-// const, G = K/p, when it expands. A small fraction of gas in an expanding cell takes most of
+// K, along the local polytrope p v^G = const, G = K/p (second order in dv/v0 both ways). When it
+// expands: A small fraction of gas in an expanding cell takes most of
 // the cell's volume change, often many times its own volume in one step: charged p dv at its
 // starting pressure it would give away more than it holds and end below zero energy, where its
 // pressure is cut to zero and the energy it owes never comes back. Along the polytrope it gives
 // at most p v0 / (G - 1), which for an ideal gas (and JWL products far out) is all it holds.
 double expansionWork(double p, double K, double v0, double dv) {
+  if (dv < 0.0 && v0 > 0.0 && p > 0.0) {
+    // Compression to the same order: along the polytrope for a gas (G < 4), by the trapezoid for a
+    // stiff material (its pressure rises by K x over the step). At p dV from the starting pressure
+    // a soft gas beside sand, which takes nearly all of a cell's volume swings, fell short of its
+    // adiabat on every compression, and the shortfall went to the sand (revision 4 measured the
+    // confined products' energy at 10 ms: -4.7 kJ with the first-order credit, +129 kJ with this).
+    const double x = std::max(dv / v0, -0.999), G = K / p;
+    if (G > 1.0 + 1e-6 && G < 4.0) return p * v0 * (std::pow(1.0 + x, 1.0 - G) - 1.0) / (G - 1.0);
+    return -(p - 0.5 * K * x) * dv;
+  }
   if (!(dv > 0.0) || !(p > 0.0) || !(v0 > 0.0)) return -p * dv;
   const double x = dv / v0;
   const double gm1 = std::max(K / p - 1.0, 1e-6);

@@ -102,7 +102,7 @@ struct MixedCell {
   double v[kMaxMaterials];   // out: volumes, summing to Vl
 };
 // Work on a material of volume v0 at pressure p, bulk modulus K, whose volume changes by dv (J):
-// -p dv in compression, along the local polytrope p v^(K/p) = const in expansion.
+// along the local polytrope p v^(K/p) = const (a stiff material compressed: the trapezoid).
 double expansionWork(double p, double K, double v0, double dv);
 void closeMixedCell(MixedCell& c, double V, double Vl, double die);
 
