@@ -137,13 +137,13 @@ void solveFaces(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
 // ------------------------------------------------------------------------------------------------
 
 // Work done on a material whose volume v0 changes by dv, starting at pressure p with bulk modulus
-// K, along the local polytrope p v^G = const, G = K/p (second order in dv/v0 both ways). When it
-// expands: A small fraction of gas in an expanding cell takes most of
-// the cell's volume change, often many times its own volume in one step: charged p dv at its
-// starting pressure it would give away more than it holds and end below zero energy, where its
-// pressure is cut to zero and the energy it owes never comes back. Along the polytrope it gives
-// at most p v0 / (G - 1), which for an ideal gas (and JWL products far out) is all it holds.
-double expansionWork(double p, double K, double v0, double dv) {
+// K: along the local polytrope p v^G = const, G = K/p, second order in dv/v0 both ways.
+// Expanding: a small fraction of gas in an expanding cell takes most of the cell's volume change,
+// often many times its own volume in one step; charged p dv at its starting pressure it would give
+// away more than it holds and end below zero energy, where its pressure is cut to zero. Along the
+// polytrope it gives at most p v0 / (G - 1), which for an ideal gas (and JWL products far out) is
+// all it holds.
+double volumeWork(double p, double K, double v0, double dv) {
   if (dv < 0.0 && v0 > 0.0 && p > 0.0) {
     // Compression to the same order: along the polytrope for a gas (G < 4), by the trapezoid for a
     // stiff material (its pressure rises by K x over the step). At p dV from the starting pressure
@@ -210,7 +210,7 @@ void closeMixedCell(MixedCell& c, double V, double Vl, double die) {
   for (int k = 0; k < M; ++k) {
     c.v[k] = c.alpha[k] * V + dv[k];
     if (c.alpha[k] > kAlphaMin) {
-      const double wk = expansionWork(c.p[k], c.K[k], c.alpha[k] * V, dv[k]);
+      const double wk = volumeWork(c.p[k], c.K[k], c.alpha[k] * V, dv[k]);
       c.ie[k] += wk;
       work += wk;
     }

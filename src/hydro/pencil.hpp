@@ -103,7 +103,7 @@ struct MixedCell {
 };
 // Work on a material of volume v0 at pressure p, bulk modulus K, whose volume changes by dv (J):
 // along the local polytrope p v^(K/p) = const (a stiff material compressed: the trapezoid).
-double expansionWork(double p, double K, double v0, double dv);
+double volumeWork(double p, double K, double v0, double dv);
 void closeMixedCell(MixedCell& c, double V, double Vl, double die);
 
 // Remap fluxes through faces g .. g+n: each material's volume (THINC profile weighted by the

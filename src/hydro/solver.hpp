@@ -38,7 +38,8 @@ struct DetonationPoint {
 
 // Revision of the numerics: raised whenever a change alters results (2: products' adiabat;
 // 3: no adiabat, energy conserved with a ledger, mixed-cell heat by compression, the sand's energy
-// term). `ejecta validate --reuse` reruns a case saved by another revision.
+// term; 4: mixed-cell work along each material's polytrope, relaxation heat capped per unit mass).
+// `ejecta validate --reuse` reruns a case saved by another revision.
 inline constexpr int kSolverRevision = 4;
 
 struct SolverOptions {

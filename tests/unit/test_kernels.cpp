@@ -149,16 +149,16 @@ TEST(Kernels, ExpansionWorkFollowsTheAdiabatAndNeverExceedsWhatAGasHolds) {
   // An ideal gas (gamma 1.4, K = 1.4 p) expanding from v0 to 11 v0 in one step: the work is its
   // isentrope's, p v0 (1 - 11^-0.4) / 0.4, not p dv, and never more than its energy p v0 / 0.4.
   const double p = 1e5, v0 = 0.01, dv = 0.1;
-  const double w = hydro::expansionWork(p, 1.4 * p, v0, dv);
+  const double w = hydro::volumeWork(p, 1.4 * p, v0, dv);
   EXPECT_NEAR(-w, p * v0 * (1.0 - std::pow(11.0, -0.4)) / 0.4, 1e-9);
   EXPECT_LT(-w, p * v0 / 0.4);
   // a small step is p dv to first order
-  EXPECT_NEAR(hydro::expansionWork(p, 1.4 * p, v0, 1e-9) / (-p * 1e-9), 1.0, 1e-6);
+  EXPECT_NEAR(hydro::volumeWork(p, 1.4 * p, v0, 1e-9) / (-p * 1e-9), 1.0, 1e-6);
   // a compression to half the volume is the isentrope's work too (p dv at the starting pressure
   // would fall 24% short), and a stiff material compressed is charged at its mean pressure
-  EXPECT_NEAR(hydro::expansionWork(p, 1.4 * p, v0, -0.5 * v0), p * v0 * (std::pow(0.5, -0.4) - 1.0) / 0.4, 1e-9);
+  EXPECT_NEAR(hydro::volumeWork(p, 1.4 * p, v0, -0.5 * v0), p * v0 * (std::pow(0.5, -0.4) - 1.0) / 0.4, 1e-9);
   const double K = 1e10, dvs = -1e-4 * v0;
-  EXPECT_NEAR(hydro::expansionWork(p, K, v0, dvs), -(p + 0.5 * K * 1e-4) * dvs, 1e-12);
+  EXPECT_NEAR(hydro::volumeWork(p, K, v0, dvs), -(p + 0.5 * K * 1e-4) * dvs, 1e-12);
 }
 
 TEST(Kernels, RelaxationHeatDoesNotRunAwayInAFilmWithNoMass) {
