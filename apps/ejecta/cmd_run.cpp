@@ -25,9 +25,16 @@ struct RunCliOptions {
   std::string restart;
   bool quiet = false;
   bool plot = true;
+  std::string help_deck;   // "text" or "markdown": print the deck reference instead of running
 };
 
 int runRun(const RunCliOptions& o) {
+  if (!o.help_deck.empty()) {
+    if (o.help_deck != "text" && o.help_deck != "markdown")
+      throw InputError("help-deck", fmt::format("'{}' is not valid; valid: text, markdown", o.help_deck));
+    std::cout << scenario::deckReference(o.help_deck == "markdown");
+    return 0;
+  }
   applyThreads(o.threads);
   const std::string path = resolveDeck(o.deck);
   std::vector<std::string> overrides = o.sets;
@@ -68,6 +75,9 @@ Action addRunCommand(CLI::App& app) {
   sub->add_option("--set", o->sets, "Override a deck field: KEY=VALUE (dotted key, TOML value), repeatable");
   sub->add_option("--checkpoint-at", o->checkpoint_at, "Write <out>/checkpoint.bin when the run reaches this time, s");
   sub->add_option("--restart", o->restart, "Continue from a checkpoint written by the same deck");
+  sub->add_option("--help-deck", o->help_deck, "Print every deck key (type, unit, valid range, default, meaning) and exit; FORMAT text or markdown")
+      ->expected(0, 1)
+      ->default_str("text");
   sub->add_flag("--quiet", o->quiet, "No progress lines");
   sub->add_flag("!--no-plot", o->plot, "Skip plots.png");
   return [sub, o]() -> int {

@@ -61,8 +61,7 @@ materials::SandInputs buildInputs(const SoilOptions& o) {
   if (!o.plateau_scale.empty()) in.plateau.scale = parseNumber("plateau-scale", o.plateau_scale);
   if (!o.thermal_gamma.empty()) {
     in.thermal_gamma = parseNumber("thermal-gamma", o.thermal_gamma);
-    if (!(in.thermal_gamma >= 0.0 && in.thermal_gamma <= 4.0))
-      throw InputError("thermal-gamma", fmt::format("{:g} is out of range; valid [0, 4]", in.thermal_gamma));
+    requireInRange("thermal-gamma", in.thermal_gamma, materials::kThermalGammaRange, "-");
   }
   if (!o.plateau_residual.empty()) in.plateau.residual = parseNumber("plateau-residual", o.plateau_residual);
   return in;

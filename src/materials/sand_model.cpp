@@ -30,7 +30,7 @@ void requireRange(const char* field, double v, double lo, double hi, const char*
 
 SandInputs SandInputs::fromWetDensity(double wet_density, double moisture) {
   requireRange("wet-density", wet_density, 0.0, 1e5, "kg/m3", true, true);
-  requireRange("moisture", moisture, 0.0, 1e9, "-", false, true);
+  requireInRange("moisture", moisture, kMoistureRange, "-");
   SandInputs in;
   in.dry_density = wet_density / (1.0 + moisture);
   in.moisture = moisture;
@@ -111,14 +111,14 @@ SandModel::SandModel(const SandInputs& in) : in_(in), void_((
   // porosity at most max_porosity (SandInputs): below that the baseline curve is stretched past meaning
   requireRange("dry-density", in.dry_density, (1.0 - std::min(in.max_porosity, 1.0)) * in.quartz.grain_density, in.quartz.grain_density, "kg/m3",
                in.max_porosity >= 1.0, true);
-  requireRange("moisture", in.moisture, 0.0, 1e9, "-", false, true);
+  requireInRange("moisture", in.moisture, kMoistureRange, "-");
   requireRange("friction-slope", in.friction_slope, 0.0, 10.0, "-", false, false);
   requireRange("tension-cutoff", in.tension_cutoff, -1e9, 0.0, "Pa", false, false);
   requireRange("poisson", in.poisson, -1.0, 0.5, "-", true, true);
-  requireRange("plateau-scale", in.plateau.scale, 0.0, 100.0, "-", false, false);
+  requireInRange("plateau-scale", in.plateau.scale, kPlateauScaleRange, "-");
   requireRange("plateau-residual", in.plateau.residual, 0.0, 1e10, "Pa", false, false);
   requireRange("yield-plateau", in.plateau.fixed, 0.0, 1e10, "Pa", false, false);
-  if (in.thermal_gamma >= 0.0) requireRange("thermal-gamma", in.thermal_gamma, 0.0, 4.0, "-", true, true);
+  if (in.thermal_gamma != -1.0) requireInRange("thermal-gamma", in.thermal_gamma, kThermalGammaRange, "- (or -1: from the constituents)");
 
   SandState s{};
   s.dry_density = in.dry_density;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/interp.hpp"
+#include "core/range.hpp"
 #include "materials/constituents.hpp"
 
 namespace ejecta::materials {
@@ -26,6 +27,12 @@ struct PlateauParams {
   double residual = 0.0;   // Pa, floor (the undrained strength of saturated sand)
   double fixed = 0.0;      // Pa, the plateau when law == Fixed
 };
+
+// Valid ranges of the inputs that `ejecta soil` and the deck share (one declaration: the layers cannot
+// disagree). Moisture has no upper bound of its own: the saturation it gives (at most 100%) bounds it.
+inline constexpr Range kMoistureRange{0.0, INFINITY, false, true};   // - gravimetric
+inline constexpr Range kPlateauScaleRange{0.0, 10.0};                // - on the effective-stress plateau
+inline constexpr Range kThermalGammaRange{0.0, 4.0};                 // - the energy term's Gruneisen coefficient
 
 struct SandInputs {
   double dry_density = 1280.0;   // kg/m3

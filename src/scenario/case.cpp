@@ -32,19 +32,6 @@ ChargeGeometry chargeGeometry(const ChargeSpec& c) {
   return g;
 }
 
-namespace {
-materials::SandInputs sandInputs(double wet, double dry, double moisture, const std::string& water_eos, double plateau_scale, double thermal_gamma) {
-  materials::SandInputs in = wet > 0.0 ? materials::SandInputs::fromWetDensity(wet, moisture) : materials::SandInputs{};
-  if (!(wet > 0.0)) {
-    in.dry_density = dry;
-    in.moisture = moisture;
-  }
-  in.water = materials::waterEosByName(water_eos);
-  in.plateau.scale = plateau_scale;
-  in.thermal_gamma = thermal_gamma;
-  return in;
-}
-}  // namespace
 
 Case buildCase(const Deck& deck, const FineBlock* block) {
   const auto& m = deck.mesh;
@@ -65,21 +52,13 @@ Case buildCase(const Deck& deck, const FineBlock* block) {
   cs.material_kind = {"air", "products"};
   for (std::size_t i = 0; i < deck.soil.size(); ++i) {
     const auto& s = deck.soil[i];
-    try {
-      mats.push_back(materials::sand(sandInputs(s.wet_density_kg_m3, s.dry_density_kg_m3, s.moisture, s.water_eos, s.plateau_scale, s.thermal_gamma), s.name));
-    } catch (const InputError& e) {
-      throw InputError(fmt::format("soil[{}].{}", i, e.field()), e.what());
-    }
+    mats.push_back(materials::sand(sandInputsOf(s), s.name));   // parseDeck has checked its inputs
     cs.material_kind.push_back("soil");
   }
   const int backfill_mat = deck.backfill.enabled ? static_cast<int>(mats.size()) : -1;
   if (deck.backfill.enabled) {
     const auto& b = deck.backfill;
-    try {
-      mats.push_back(materials::sand(sandInputs(b.wet_density_kg_m3, b.dry_density_kg_m3, b.moisture, deck.soil[0].water_eos, deck.soil[0].plateau_scale, deck.soil[0].thermal_gamma), "backfill"));
-    } catch (const InputError& e) {
-      throw InputError("backfill." + e.field(), e.what());
-    }
+    mats.push_back(materials::sand(sandInputsOf(b, deck.soil[0]), "backfill"));
     cs.material_kind.push_back("soil");
   }
 

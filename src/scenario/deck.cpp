@@ -1,10 +1,12 @@
 #include "scenario/deck.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <limits>
-#include <cmath>
+#include <map>
 #include <set>
-#include <sstream>
+#include <variant>
 
 #include <fmt/format.h>
 #include <toml++/toml.h>
@@ -15,84 +17,279 @@
 namespace ejecta::scenario {
 namespace {
 
-// Reads typed fields out of one table and remembers which keys were used, so that what is left
-// is reported as unknown.
-class Reader {
- public:
-  Reader(const toml::table* t, std::string path) : t_(t), path_(std::move(path)) {}
-  std::string key(const std::string& k) const { return path_.empty() ? k : path_ + "." + k; }
+constexpr double kInf = std::numeric_limits<double>::infinity();
 
-  void num(const std::string& k, double& v) {
-    used_.insert(k);
-    if (!t_) return;
-    const auto* n = t_->get(k);
-    if (!n) return;
-    if (auto d = n->value<double>()) v = *d;
-    else throw InputError(key(k), "must be a number");
-    if (!std::isfinite(v)) throw InputError(key(k), "must be a finite number");
-  }
-  void str(const std::string& k, std::string& v) {
-    used_.insert(k);
-    if (!t_) return;
-    if (const auto* n = t_->get(k)) {
-      if (auto s = n->value<std::string>()) v = *s;
-      else throw InputError(key(k), "must be a string");
-    }
-  }
-  void boolean(const std::string& k, bool& v) {
-    used_.insert(k);
-    if (!t_) return;
-    if (const auto* n = t_->get(k)) {
-      if (n->is_boolean()) v = *n->value<bool>();   // strictly: value<bool>() would take 1 as true
-      else throw InputError(key(k), "must be true or false");
-    }
-  }
-  void numList(const std::string& k, std::vector<double>& v) {
-    used_.insert(k);
-    if (!t_) return;
-    const auto* n = t_->get(k);
-    if (!n) return;
-    const auto* arr = n->as_array();
-    if (!arr) throw InputError(key(k), "must be a list of numbers");
-    v.clear();
-    for (const auto& e : *arr) {
-      auto d = e.value<double>();
-      if (!d) throw InputError(key(k), "must be a list of numbers");
-      v.push_back(*d);
-    }
-  }
-  void mark(const std::string& k) { used_.insert(k); }
-  const toml::table* sub(const std::string& k) {
-    used_.insert(k);
-    if (!t_) return nullptr;
-    const auto* n = t_->get(k);
-    if (!n) return nullptr;
-    if (!n->as_table()) throw InputError(key(k), "must be a table [" + key(k) + "]");
-    return n->as_table();
-  }
-  void finish() const {
-    if (!t_) return;
-    for (const auto& [k, v] : *t_)
-      if (!used_.count(std::string(k.str()))) throw InputError(key(std::string(k.str())), "unknown key");
-  }
+// Where a key's value lives in a Deck (layer: the index of the [[soil]] entry).
+using FieldRef = std::variant<double*, std::string*, bool*, std::vector<double>*, std::vector<std::vector<double>>*>;
+using FieldOf = FieldRef (*)(Deck&, std::size_t layer);
 
- private:
-  const toml::table* t_;
-  std::string path_;
-  std::set<std::string> used_;
+template <auto M>
+FieldRef top(Deck& d, std::size_t) { return &(d.*M); }
+template <auto S, auto M>
+FieldRef in(Deck& d, std::size_t) { return &((d.*S).*M); }
+template <auto M>
+FieldRef layer(Deck& d, std::size_t i) { return &(d.soil[i].*M); }
+
+struct Key {
+  std::string section;   // "" (top level), a table ("mesh"), or "soil" (a list of tables)
+  std::string name;      // the key inside its section
+  FieldOf field;
+  DeckKeyInfo info;
 };
 
-void range(const std::string& key, double v, double lo, double hi, const char* unit, bool lo_open = false) {
-  if ((lo_open ? !(v > lo) : !(v >= lo)) || !(v <= hi))
-    throw InputError(key, fmt::format("{:g} {} is out of range; valid {}{:g}, {:g}] {}", v, unit, lo_open ? "(" : "[", lo, hi, unit));
+Key number(std::string section, std::string name, FieldOf f, std::string unit, Range r, std::string help, std::optional<double> special = {}) {
+  Key k{std::move(section), std::move(name), f, {}};
+  k.info.type = KeyType::Number;
+  k.info.unit = std::move(unit);
+  k.info.range = r;
+  k.info.special = special;
+  k.info.help = std::move(help);
+  return k;
+}
+Key text(std::string section, std::string name, FieldOf f, std::vector<std::string> choices, std::string help) {
+  Key k{std::move(section), std::move(name), f, {}};
+  k.info.type = KeyType::Text;
+  k.info.choices = std::move(choices);
+  k.info.help = std::move(help);
+  return k;
+}
+Key flag(std::string section, std::string name, FieldOf f, std::string help) {
+  Key k{std::move(section), std::move(name), f, {}};
+  k.info.type = KeyType::Boolean;
+  k.info.help = std::move(help);
+  return k;
+}
+Key list(std::string section, std::string name, FieldOf f, KeyType type, std::string unit, Range r, std::string help) {
+  Key k{std::move(section), std::move(name), f, {}};
+  k.info.type = type;
+  k.info.unit = std::move(unit);
+  k.info.range = r;
+  k.info.help = std::move(help);
+  return k;
 }
 
-void oneOf(const std::string& key, const std::string& v, std::initializer_list<const char*> allowed) {
-  for (const char* a : allowed)
-    if (v == a) return;
-  std::string list;
-  for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
-  throw InputError(key, fmt::format("'{}' is not valid; valid: {}", v, list));
+// Static ranges: what the key can mean on its own. Ranges that depend on other keys (the core
+// inside the domain, the plate inside the domain, a layer holding the charge) are checked after
+// the whole deck is read (checkConsistency), naming the key.
+std::vector<Key> makeKeys() {
+  using materials::kMoistureRange, materials::kPlateauScaleRange, materials::kThermalGammaRange;
+  const Range any_length{-100.0, 100.0};
+  const Range density{0.0, 1e5};
+  std::vector<Key> k{
+      text("", "title", top<&Deck::title>, {}, "free text, shown in outputs"),
+      text("", "geometry", top<&Deck::geometry>, {"axisymmetric", "3d-quarter"},
+           "2D r-z, or 3D quarter symmetry (x, y >= 0 symmetry planes, z up; radii in the deck are from the z axis)"),
+      flag("", "gravity", top<&Deck::gravity>, "body force -9.81 m/s2 on the flow and the plate"),
+      number("", "end_time_s", top<&Deck::end_time_s>, "s", {0.0, 1.0, true}, "simulated time"),
+      number("", "cfl", top<&Deck::cfl>, "-", {0.05, 0.9}, "Courant number of each sweep"),
+
+      number("mesh", "cell_size_m", in<&Deck::mesh, &MeshSpec::cell_size_m>, "m", {1e-4, 0.1}, "uniform core cell"),
+      number("mesh", "grading", in<&Deck::mesh, &MeshSpec::grading>, "-", {1.0, 1.5}, "growth per cell outside the core"),
+      number("mesh", "core_radius_m", in<&Deck::mesh, &MeshSpec::core_radius_m>, "m", {0.0, 100.0, true},
+             "the uniform core's radius; at least cell_size_m and at most domain_radius_m"),
+      number("mesh", "core_bottom_m", in<&Deck::mesh, &MeshSpec::core_bottom_m>, "m", any_length,
+             "the uniform core's bottom; its vertical cells are laid from z = 0 (the soil surface is a face at every cell size), so its ends move by under half a cell"),
+      number("mesh", "core_top_m", in<&Deck::mesh, &MeshSpec::core_top_m>, "m", any_length, "the uniform core's top; above core_bottom_m"),
+      number("mesh", "domain_radius_m", in<&Deck::mesh, &MeshSpec::domain_radius_m>, "m", {0.0, 100.0, true}, "the domain's radius (the side: outflow)"),
+      number("mesh", "domain_bottom_m", in<&Deck::mesh, &MeshSpec::domain_bottom_m>, "m", any_length,
+             "the domain's bottom (a rigid ground); at most core_bottom_m"),
+      number("mesh", "domain_top_m", in<&Deck::mesh, &MeshSpec::domain_top_m>, "m", any_length, "the domain's top (outflow); at least core_top_m"),
+
+      text("soil", "name", layer<&SoilSpec::name>, {}, "the layer's label; one or more [[soil]] tables, stacked top to bottom, the highest at z = 0"),
+      number("soil", "wet_density_kg_m3", layer<&SoilSpec::wet_density_kg_m3>, "kg/m3", density,
+             "wet (gross) density; give it or dry_density_kg_m3 (the other 0); the sand model bounds it (docs/sand-model.md)"),
+      number("soil", "dry_density_kg_m3", layer<&SoilSpec::dry_density_kg_m3>, "kg/m3", density,
+             "dry density; porosity at most 0.7 and below the grain density"),
+      number("soil", "moisture", layer<&SoilSpec::moisture>, "-", kMoistureRange, "gravimetric (0.07 = 7%); saturation at most 100%"),
+      number("soil", "top_m", layer<&SoilSpec::top_m>, "m", any_length, "the layer's top; the highest layer's top is the ground, z = 0"),
+      number("soil", "bottom_m", layer<&SoilSpec::bottom_m>, "m", any_length, "the layer's bottom; below top_m, inside the domain"),
+      number("soil", "radius_m", layer<&SoilSpec::radius_m>, "m", {0.0, 1e3}, "the layer's radius; 0: the whole width of the domain"),
+      text("soil", "water_eos", layer<&SoilSpec::water_eos>, {"awg", "alt"}, "the pore water's Hugoniot set (docs/sand-model.md)"),
+      number("soil", "plateau_scale", layer<&SoilSpec::plateau_scale>, "-", kPlateauScaleRange, "multiplier on the effective-stress yield plateau"),
+      number("soil", "thermal_gamma", layer<&SoilSpec::thermal_gamma>, "-", kThermalGammaRange,
+             "the energy term's Gruneisen coefficient, p = C(x) + gamma T(x) rho0 e; -1: derived from the constituents (docs/solver.md)", -1.0),
+
+      flag("backfill", "enabled", in<&Deck::backfill, &BackfillSpec::enabled>,
+           "a dug-and-backfilled cover over the charge, from the surface to the charge top (soil options of the first layer)"),
+      number("backfill", "radius_m", in<&Deck::backfill, &BackfillSpec::radius_m>, "m", {0.0, 1e3}, "the backfill's radius; 0: the charge radius + 0.05 m"),
+      number("backfill", "wet_density_kg_m3", in<&Deck::backfill, &BackfillSpec::wet_density_kg_m3>, "kg/m3", density,
+             "the backfill's wet density; give it or dry_density_kg_m3 when enabled"),
+      number("backfill", "dry_density_kg_m3", in<&Deck::backfill, &BackfillSpec::dry_density_kg_m3>, "kg/m3", density, "the backfill's dry density"),
+      number("backfill", "moisture", in<&Deck::backfill, &BackfillSpec::moisture>, "-", kMoistureRange, "the backfill's gravimetric moisture; saturation at most 100%"),
+
+      text("charge", "explosive", in<&Deck::charge, &ChargeSpec::explosive>, {"C4", "CompB", "TNT"}, "JWL products (shared/data/explosives_jwl.csv)"),
+      number("charge", "mass_kg", in<&Deck::charge, &ChargeSpec::mass_kg>, "kg", {0.0, 1000.0, true}, "the charge's mass"),
+      text("charge", "shape", in<&Deck::charge, &ChargeSpec::shape>, {"cylinder", "sphere", "box"}, "box (square in plan) only in 3D"),
+      number("charge", "height_to_diameter", in<&Deck::charge, &ChargeSpec::height_to_diameter>, "-", {0.05, 20.0},
+             "the cylinder's height over its diameter (box: height over side)"),
+      number("charge", "depth_of_burial_m", in<&Deck::charge, &ChargeSpec::depth_of_burial_m>, "m", {0.0, 10.0},
+             "soil cover over the charge's top; the charge's top lies inside a soil layer"),
+      text("charge", "detonation", in<&Deck::charge, &ChargeSpec::detonation>, {"bottom", "centre", "top"}, "the detonation point, on the axis"),
+
+      flag("early", "enabled", in<&Deck::early, &EarlySpec::enabled>,
+           "run the detonation and first expansion on a fine nested block and map it onto the run mesh (docs/solver.md, Early time); "
+           "used where the run's cells give fewer than cells_per_charge_height over the charge; 2D only"),
+      number("early", "cells_per_charge_height", in<&Deck::early, &EarlySpec::cells_per_charge_height>, "-", {4.0, 200.0}, "the fine block's resolution"),
+      number("early", "map_time_s", in<&Deck::early, &EarlySpec::map_time_s>, "s", {0.0, 1e-3},
+             "map no later than this; 0: when the fastest wave could reach the block's edge"),
+      number("early", "signal_speed_m_s", in<&Deck::early, &EarlySpec::signal_speed_m_s>, "m/s", {1000.0, 20000.0},
+             "the fastest wave the block must hold by the map time"),
+      number("early", "block_margin_m", in<&Deck::early, &EarlySpec::block_margin_m>, "m", {0.01, 2.0},
+             "the block's reach past the charge (clipped to the uniform core); 0: signal_speed_m_s times four burn times (EMI: 0.21 m)", 0.0),
+
+      number("air", "pressure_pa", top<&Deck::air_pressure_pa>, "Pa", {1.0, 1e7}, "ambient air pressure (ideal gas, gamma 1.4)"),
+      number("air", "density_kg_m3", top<&Deck::air_density_kg_m3>, "kg/m3", {1e-3, 100.0}, "ambient air density"),
+
+      text("target", "kind", in<&Deck::target, &TargetSpec::kind>, {"disc", "annulus", "rectangle", "v", "none"},
+           "the plate; rectangle and v (ridge along x, keel down) only in 3D"),
+      number("target", "radius_m", in<&Deck::target, &TargetSpec::radius_m>, "m", {0.0, 100.0, true}, "disc and annulus: outer radius, at most mesh.domain_radius_m"),
+      number("target", "inner_radius_m", in<&Deck::target, &TargetSpec::inner_radius_m>, "m", {0.0, 100.0}, "annulus: inner radius, at most radius_m"),
+      number("target", "thickness_m", in<&Deck::target, &TargetSpec::thickness_m>, "m", {0.0, 1.0, true}, "the plate's thickness; at least mesh.cell_size_m"),
+      number("target", "standoff_m", in<&Deck::target, &TargetSpec::standoff_m>, "m", {0.0, 100.0},
+             "from the soil surface to the plate's underside; the plate lies inside the domain"),
+      number("target", "mass_kg", in<&Deck::target, &TargetSpec::mass_kg>, "kg", {0.0, 1e6}, "the plate's mass; > 0 when motion = free"),
+      text("target", "motion", in<&Deck::target, &TargetSpec::motion>, {"free", "fixed"}, "free: moves under the load and gravity"),
+      number("target", "friction", in<&Deck::target, &TargetSpec::friction>, "-", {0.0, 2.0}, "Coulomb coefficient between the plate and the flow (soil, gas); the EMI decks use 0.2"),
+      number("target", "half_length_m", in<&Deck::target, &TargetSpec::half_length_m>, "m", {0.0, 100.0, true},
+             "rectangle and V: half extent along x (the V's ridge), at most mesh.domain_radius_m"),
+      number("target", "half_width_m", in<&Deck::target, &TargetSpec::half_width_m>, "m", {0.0, 100.0, true},
+             "rectangle and V: half extent along y, at most mesh.domain_radius_m"),
+      number("target", "apex_angle_deg", in<&Deck::target, &TargetSpec::apex_angle_deg>, "degrees", {30.0, 180.0}, "V: the angle between its wings (180 = flat)"),
+
+      number("output", "history_interval_s", in<&Deck::output, &OutputSpec::history_interval_s>, "s", {1e-8, 1.0}, "history and gauge sampling"),
+      list("output", "profile_times_s", in<&Deck::output, &OutputSpec::profile_times_s>, KeyType::NumberList, "s", {0.0, kInf, true, true},
+           "soil-surface profile times, increasing (times past end_time_s are not reached)"),
+      list("output", "field_times_s", in<&Deck::output, &OutputSpec::field_times_s>, KeyType::NumberList, "s", {0.0, kInf, true, true},
+           "VTK snapshot times, increasing"),
+      list("output", "gauges_m", in<&Deck::output, &OutputSpec::gauges_m>, KeyType::PointList, "m", any_length,
+           "pressure gauges, a list of [r, z] points inside the domain"),
+      number("output", "surface_soil_fraction", in<&Deck::output, &OutputSpec::surface_soil_fraction>, "-", {0.01, 1.0},
+             "soil volume fraction that marks the soil surface in profiles and histories (DRES decks: 0.1, the envelope a film sees)"),
+  };
+  Deck defaults;
+  defaults.soil.resize(1);
+  for (auto& key : k) {
+    key.info.path = key.section.empty() ? key.name : (key.section == "soil" ? "soil.N." : key.section + ".") + key.name;
+    key.info.default_text = std::visit(
+        [](auto* v) -> std::string {
+          using T = std::remove_pointer_t<decltype(v)>;
+          if constexpr (std::is_same_v<T, double>) return fmt::format("{:.6g}", *v);
+          else if constexpr (std::is_same_v<T, std::string>) return fmt::format("\"{}\"", *v);
+          else if constexpr (std::is_same_v<T, bool>) return *v ? "true" : "false";
+          else if constexpr (std::is_same_v<T, std::vector<double>>) return fmt::format("[{}]", fmt::join(*v, ", "));
+          else return v->empty() ? "[]" : "[...]";
+        },
+        key.field(defaults, 0));
+  }
+  return k;
+}
+
+const std::vector<Key>& keyTable() {
+  static const std::vector<Key> keys = makeKeys();
+  return keys;
+}
+
+std::string keyPath(const Key& k, std::size_t layer_index) {
+  if (k.section.empty()) return k.name;
+  if (k.section == "soil") return fmt::format("soil.{}.{}", layer_index, k.name);
+  return k.section + "." + k.name;
+}
+
+const toml::table* sectionTable(const toml::table& root, const std::string& section) {
+  const auto* n = root.get(section);
+  if (!n) return nullptr;
+  if (!n->as_table()) throw InputError(section, fmt::format("must be a table [{}]", section));
+  return n->as_table();
+}
+
+// Reads one key's TOML value into the deck, by its type.
+void readValue(const toml::node& n, const Key& k, FieldRef f, const std::string& path) {
+  std::visit(
+      [&](auto* v) {
+        using T = std::remove_pointer_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, double>) {
+          const auto d = n.value<double>();
+          if (!d || n.is_boolean()) throw InputError(path, "must be a number");
+          *v = *d;
+        } else if constexpr (std::is_same_v<T, std::string>) {
+          const auto s = n.value<std::string>();
+          if (!s) throw InputError(path, "must be a string");
+          *v = *s;
+        } else if constexpr (std::is_same_v<T, bool>) {
+          if (!n.is_boolean()) throw InputError(path, "must be true or false");   // value<bool>() would take 1 as true
+          *v = *n.value<bool>();
+        } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+          const auto* arr = n.as_array();
+          if (!arr) throw InputError(path, "must be a list of numbers");
+          v->clear();
+          for (const auto& e : *arr) {
+            const auto d = e.value<double>();
+            if (!d || e.is_boolean()) throw InputError(path, "must be a list of numbers");
+            v->push_back(*d);
+          }
+        } else {
+          const auto* arr = n.as_array();
+          if (!arr) throw InputError(path, "must be a list of [r, z] pairs (m)");
+          v->clear();
+          for (const auto& e : *arr) {
+            const auto* pt = e.as_array();
+            if (!pt || pt->size() != 2 || !(*pt)[0].value<double>() || !(*pt)[1].value<double>() || (*pt)[0].is_boolean() || (*pt)[1].is_boolean())
+              throw InputError(path, "must be a list of [r, z] pairs (m)");
+            v->push_back({*(*pt)[0].value<double>(), *(*pt)[1].value<double>()});
+          }
+        }
+      },
+      f);
+  (void)k;
+}
+
+// The key's own range and choices.
+void checkValue(const Key& k, FieldRef f, const std::string& path) {
+  const auto& info = k.info;
+  std::visit(
+      [&](auto* v) {
+        using T = std::remove_pointer_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, double>) {
+          if (info.special && *v == *info.special) return;
+          if (!std::isfinite(*v)) throw InputError(path, "must be a finite number");
+          if (!info.range.contains(*v))
+            throw InputError(path, fmt::format("{:g} {} is out of range; valid {} {}{}", *v, info.unit, info.range.text(), info.unit,
+                                               info.special ? fmt::format(" (or {:g})", *info.special) : std::string()));
+        } else if constexpr (std::is_same_v<T, std::string>) {
+          if (info.choices.empty() || std::find(info.choices.begin(), info.choices.end(), *v) != info.choices.end()) return;
+          throw InputError(path, fmt::format("'{}' is not valid; valid: {}", *v, fmt::join(info.choices, ", ")));
+        } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+          for (const double x : *v)
+            if (!std::isfinite(x) || !info.range.contains(x))
+              throw InputError(path, fmt::format("{:g} {} is out of range; valid {} {}", x, info.unit, info.range.text(), info.unit));
+        } else if constexpr (std::is_same_v<T, std::vector<std::vector<double>>>) {
+          for (const auto& p : *v)
+            for (const double x : p)
+              if (!std::isfinite(x) || !info.range.contains(x))
+                throw InputError(path, fmt::format("{:g} {} is out of range; valid {} {}", x, info.unit, info.range.text(), info.unit));
+        }
+      },
+      f);
+}
+
+nlohmann::json jsonOf(FieldRef f) {
+  return std::visit([](auto* v) { return nlohmann::json(*v); }, f);
+}
+
+// A --set value is one TOML value: "v = VALUE" must parse to exactly the one key (text after the
+// value, such as a second line, is refused rather than ignored); a bare word is a string.
+toml::node_view<toml::node> parsedValue(toml::table& parsed, const std::string& path, const std::string& value) {
+  try {
+    parsed = toml::parse("v = " + value);
+  } catch (const toml::parse_error&) {
+    try {
+      parsed = toml::parse("v = \"" + value + "\"");
+    } catch (const toml::parse_error&) {
+      throw InputError(path, fmt::format("'{}' is not a valid value", value));
+    }
+  }
+  if (parsed.size() != 1) throw InputError(path, fmt::format("'{}' is not one value", value));
+  return parsed["v"];
 }
 
 void applyOverride(toml::table& root, const std::string& ov) {
@@ -100,22 +297,15 @@ void applyOverride(toml::table& root, const std::string& ov) {
   if (eq == std::string::npos || eq == 0) throw InputError("--set", fmt::format("'{}' is not KEY=VALUE", ov));
   const std::string path = ov.substr(0, eq), value = ov.substr(eq + 1);
   toml::table parsed;
-  try {
-    parsed = toml::parse("v = " + value);
-  } catch (const toml::parse_error&) {
-    try {
-      parsed = toml::parse("v = \"" + value + "\"");   // a bare word is a string
-    } catch (const toml::parse_error&) {
-      throw InputError(path, fmt::format("'{}' is not a valid value", value));
-    }
-  }
+  const auto v = parsedValue(parsed, path, value);
   toml::table* t = &root;
   std::size_t start = 0;
   for (;;) {
     const auto dot = path.find('.', start);
     const std::string part = path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+    if (part.empty()) throw InputError(path, "is not a dotted key (KEY or TABLE.KEY)");
     if (dot == std::string::npos) {
-      t->insert_or_assign(part, *parsed.get("v"));
+      t->insert_or_assign(part, *v.node());
       return;
     }
     auto* next = t->get(part);
@@ -142,207 +332,97 @@ void applyOverride(toml::table& root, const std::string& ov) {
   }
 }
 
-void readSoil(const toml::table* t, const std::string& path, SoilSpec& s) {
-  Reader r(t, path);
-  r.str("name", s.name);
-  r.num("wet_density_kg_m3", s.wet_density_kg_m3);
-  r.num("dry_density_kg_m3", s.dry_density_kg_m3);
-  r.num("moisture", s.moisture);
-  r.num("top_m", s.top_m);
-  r.num("bottom_m", s.bottom_m);
-  r.num("radius_m", s.radius_m);
-  r.str("water_eos", s.water_eos);
-  r.num("plateau_scale", s.plateau_scale);
-  r.num("thermal_gamma", s.thermal_gamma);
-  r.finish();
-  if ((s.wet_density_kg_m3 > 0.0) == (s.dry_density_kg_m3 > 0.0))
-    throw InputError(path, "give exactly one of wet_density_kg_m3 and dry_density_kg_m3 (> 0)");
-  range(path + ".moisture", s.moisture, 0.0, 1.0, "-");
-  if (!(s.top_m > s.bottom_m)) throw InputError(path + ".top_m", "must be above bottom_m");
-  range(path + ".radius_m", s.radius_m, 0.0, 1e3, "m");
-  oneOf(path + ".water_eos", s.water_eos, {"awg", "alt"});
-  range(path + ".plateau_scale", s.plateau_scale, 0.0, 10.0, "-");
-  if (s.thermal_gamma != -1.0) range(path + ".thermal_gamma", s.thermal_gamma, 0.0, 4.0, "- (or -1: from the constituents)");
+// Refuses a key the table does not declare (a section's keys, or the top level's).
+void refuseUnknownKeys(const toml::table& t, const std::string& section, const std::string& prefix) {
+  const auto& keys = keyTable();
+  for (const auto& [name, node] : t) {
+    const std::string n(name.str());
+    const bool declared = std::any_of(keys.begin(), keys.end(), [&](const Key& k) { return k.section == section && k.name == n; });
+    if (declared) continue;
+    const bool is_section = section.empty() && std::any_of(keys.begin(), keys.end(), [&](const Key& k) { return k.section == n; });
+    if (!is_section) throw InputError(prefix.empty() ? n : prefix + "." + n, "unknown key");
+  }
 }
 
-}  // namespace
-
-Deck parseDeck(const std::string& text, const std::vector<std::string>& overrides, const std::string& source) {
-  toml::table root;
+// The sand model checks what only it can (porosity, saturation at most 100%, grains that leave
+// voids); its errors name its own inputs, which are renamed here to the deck's keys.
+void checkSand(const materials::SandInputs& in, const std::string& prefix, bool wet_given) {
   try {
-    root = toml::parse(text, source);
-  } catch (const toml::parse_error& e) {
-    throw InputError(source, fmt::format("TOML syntax error at line {}: {}", e.source().begin.line, e.description()));
-  }
-  for (const auto& ov : overrides) applyOverride(root, ov);
-
-  Deck d;
-  Reader top(&root, "");
-  top.str("title", d.title);
-  top.str("geometry", d.geometry);
-  oneOf("geometry", d.geometry, {"axisymmetric", "3d-quarter"});
-  top.boolean("gravity", d.gravity);
-  top.num("end_time_s", d.end_time_s);
-  range("end_time_s", d.end_time_s, 0.0, 1.0, "s", true);
-  top.num("cfl", d.cfl);
-  range("cfl", d.cfl, 0.05, 0.9, "-");
-
-  {
-    Reader r(top.sub("mesh"), "mesh");
-    auto& m = d.mesh;
-    r.num("cell_size_m", m.cell_size_m);
-    r.num("grading", m.grading);
-    r.num("core_radius_m", m.core_radius_m);
-    r.num("core_bottom_m", m.core_bottom_m);
-    r.num("core_top_m", m.core_top_m);
-    r.num("domain_radius_m", m.domain_radius_m);
-    r.num("domain_bottom_m", m.domain_bottom_m);
-    r.num("domain_top_m", m.domain_top_m);
-    r.finish();
-    range("mesh.cell_size_m", m.cell_size_m, 1e-4, 0.1, "m");
-    range("mesh.grading", m.grading, 1.0, 1.5, "-");
-    range("mesh.core_radius_m", m.core_radius_m, m.cell_size_m, m.domain_radius_m, "m");
-    if (!(m.domain_bottom_m <= m.core_bottom_m && m.core_bottom_m < m.core_top_m && m.core_top_m <= m.domain_top_m))
-      throw InputError("mesh.core_bottom_m", "need domain_bottom_m <= core_bottom_m < core_top_m <= domain_top_m");
-  }
-  top.mark("soil");   // an array of tables, read below
-  if (const auto* arr = root.get("soil") ? root.get("soil")->as_array() : nullptr) {
-    int i = 0;
-    for (const auto& e : *arr) {
-      if (!e.as_table()) throw InputError("soil", "must be [[soil]] tables");
-      SoilSpec s;
-      readSoil(e.as_table(), fmt::format("soil[{}]", i++), s);
-      d.soil.push_back(s);
+    materials::SandModel model(in);
+  } catch (const InputError& e) {
+    const std::string& f = e.field();
+    std::string msg = e.what();
+    if (msg.rfind(f + ": ", 0) == 0) msg = msg.substr(f.size() + 2);
+    std::string key = f;
+    if (f == "dry-density" || f == "wet-density") {
+      key = wet_given ? "wet_density_kg_m3" : "dry_density_kg_m3";
+      if (wet_given) msg += " (the dry density, wet_density_kg_m3 / (1 + moisture))";
+    } else if (f == "plateau-scale" || f == "thermal-gamma") {
+      key = f == "plateau-scale" ? "plateau_scale" : "thermal_gamma";
     }
+    throw InputError(prefix + "." + key, msg);
   }
+}
+
+// Ranges that depend on other keys, and the geometry meaning what the deck says.
+void checkConsistency(const Deck& d) {
+  const auto& m = d.mesh;
+  if (!(m.core_radius_m >= m.cell_size_m && m.core_radius_m <= m.domain_radius_m))
+    throw InputError("mesh.core_radius_m", fmt::format("{:g} m is out of range; valid [mesh.cell_size_m, mesh.domain_radius_m] = [{:g}, {:g}] m", m.core_radius_m,
+                                                       m.cell_size_m, m.domain_radius_m));
+  if (!(m.domain_bottom_m <= m.core_bottom_m && m.core_bottom_m < m.core_top_m && m.core_top_m <= m.domain_top_m))
+    throw InputError("mesh.core_bottom_m", "need domain_bottom_m <= core_bottom_m < core_top_m <= domain_top_m");
   if (d.soil.empty()) throw InputError("soil", "at least one [[soil]] layer is needed");
-  {
-    Reader r(top.sub("backfill"), "backfill");
-    auto& b = d.backfill;
-    r.boolean("enabled", b.enabled);
-    r.num("radius_m", b.radius_m);
-    r.num("wet_density_kg_m3", b.wet_density_kg_m3);
-    r.num("dry_density_kg_m3", b.dry_density_kg_m3);
-    r.num("moisture", b.moisture);
-    r.finish();
-    if (b.enabled && (b.wet_density_kg_m3 > 0.0) == (b.dry_density_kg_m3 > 0.0))
+  for (std::size_t i = 0; i < d.soil.size(); ++i) {
+    const auto& s = d.soil[i];
+    const std::string key = fmt::format("soil.{}", i);
+    if ((s.wet_density_kg_m3 > 0.0) == (s.dry_density_kg_m3 > 0.0))
+      throw InputError(key, "give exactly one of wet_density_kg_m3 and dry_density_kg_m3 (> 0)");
+    if (!(s.top_m > s.bottom_m)) throw InputError(key + ".top_m", "must be above bottom_m");
+    checkSand(sandInputsOf(s), key, s.wet_density_kg_m3 > 0.0);
+  }
+  const auto& b = d.backfill;
+  if (b.enabled) {
+    if ((b.wet_density_kg_m3 > 0.0) == (b.dry_density_kg_m3 > 0.0))
       throw InputError("backfill", "give exactly one of wet_density_kg_m3 and dry_density_kg_m3 (> 0)");
-    range("backfill.moisture", b.moisture, 0.0, 1.0, "-");
+    checkSand(sandInputsOf(b, d.soil[0]), "backfill", b.wet_density_kg_m3 > 0.0);
   }
-  {
-    Reader r(top.sub("charge"), "charge");
-    auto& c = d.charge;
-    r.str("explosive", c.explosive);
-    r.num("mass_kg", c.mass_kg);
-    r.str("shape", c.shape);
-    r.num("height_to_diameter", c.height_to_diameter);
-    r.num("depth_of_burial_m", c.depth_of_burial_m);
-    r.str("detonation", c.detonation);
-    r.finish();
-    oneOf("charge.explosive", c.explosive, {"C4", "CompB", "TNT"});
-    range("charge.mass_kg", c.mass_kg, 0.0, 1000.0, "kg", true);
-    oneOf("charge.shape", c.shape, {"cylinder", "sphere", "box"});
-    if (c.shape == "box" && d.geometry != "3d-quarter")
-      throw InputError("charge.shape", "'box' needs geometry = \"3d-quarter\" (2D axisymmetric: cylinder or sphere)");
-    range("charge.height_to_diameter", c.height_to_diameter, 0.05, 20.0, "-");
-    range("charge.depth_of_burial_m", c.depth_of_burial_m, 0.0, 10.0, "m");
-    oneOf("charge.detonation", c.detonation, {"bottom", "centre", "top"});
+  const bool three_d = d.geometry == "3d-quarter";
+  if (d.charge.shape == "box" && !three_d)
+    throw InputError("charge.shape", "'box' needs geometry = \"3d-quarter\" (2D axisymmetric: cylinder or sphere)");
+  const auto& t = d.target;
+  if ((t.kind == "rectangle" || t.kind == "v") && !three_d)
+    throw InputError("target.kind", fmt::format("'{}' needs geometry = \"3d-quarter\" (2D axisymmetric: disc or annulus)", t.kind));
+  auto within = [](const std::string& key, double v, double lo, double hi, const std::string& bounds) {
+    if (!(v >= lo && v <= hi)) throw InputError(key, fmt::format("{:g} m is out of range; valid {} = [{:g}, {:g}] m", v, bounds, lo, hi));
+  };
+  within("target.half_length_m", t.half_length_m, 0.0, m.domain_radius_m, "(0, mesh.domain_radius_m]");
+  within("target.half_width_m", t.half_width_m, 0.0, m.domain_radius_m, "(0, mesh.domain_radius_m]");
+  if (t.kind != "none") {
+    within("target.radius_m", t.radius_m, 0.0, m.domain_radius_m, "(0, mesh.domain_radius_m]");
+    within("target.inner_radius_m", t.inner_radius_m, 0.0, t.radius_m, "[0, target.radius_m]");
+    within("target.thickness_m", t.thickness_m, m.cell_size_m, 1.0, "[mesh.cell_size_m, 1]");
+    within("target.standoff_m", t.standoff_m, 0.0, m.domain_top_m, "[0, mesh.domain_top_m]");
+    if (t.motion == "free" && !(t.mass_kg > 0.0))
+      throw InputError("target.mass_kg", fmt::format("{:g} kg is out of range; a free target needs a mass in (0, 1e+06] kg", t.mass_kg));
+    if (t.standoff_m + t.thickness_m > m.domain_top_m - 2.0 * m.cell_size_m)
+      throw InputError("target.standoff_m", "the plate must lie inside the domain (raise mesh.domain_top_m)");
   }
-  {
-    Reader r(top.sub("early"), "early");
-    auto& e = d.early;
-    r.boolean("enabled", e.enabled);
-    r.num("cells_per_charge_height", e.cells_per_charge_height);
-    r.num("map_time_s", e.map_time_s);
-    r.num("signal_speed_m_s", e.signal_speed_m_s);
-    r.num("block_margin_m", e.block_margin_m);
-    r.finish();
-    range("early.cells_per_charge_height", e.cells_per_charge_height, 4.0, 200.0, "-");
-    range("early.map_time_s", e.map_time_s, 0.0, 1e-3, "s");
-    range("early.signal_speed_m_s", e.signal_speed_m_s, 1000.0, 20000.0, "m/s");
-    if (e.block_margin_m != 0.0) range("early.block_margin_m", e.block_margin_m, 0.01, 2.0, "m (or 0: automatic)");
-  }
-  {
-    Reader r(top.sub("air"), "air");
-    r.num("pressure_pa", d.air_pressure_pa);
-    r.num("density_kg_m3", d.air_density_kg_m3);
-    r.finish();
-    range("air.pressure_pa", d.air_pressure_pa, 1.0, 1e7, "Pa");
-    range("air.density_kg_m3", d.air_density_kg_m3, 1e-3, 100.0, "kg/m3");
-  }
-  {
-    Reader r(top.sub("target"), "target");
-    auto& t = d.target;
-    r.str("kind", t.kind);
-    r.num("radius_m", t.radius_m);
-    r.num("inner_radius_m", t.inner_radius_m);
-    r.num("thickness_m", t.thickness_m);
-    r.num("standoff_m", t.standoff_m);
-    r.num("mass_kg", t.mass_kg);
-    r.str("motion", t.motion);
-    r.num("friction", t.friction);
-    r.num("half_length_m", t.half_length_m);
-    r.num("half_width_m", t.half_width_m);
-    r.num("apex_angle_deg", t.apex_angle_deg);
-    r.finish();
-    range("target.friction", t.friction, 0.0, 2.0, "-");
-    oneOf("target.kind", t.kind, {"disc", "annulus", "rectangle", "v", "none"});
-    if ((t.kind == "rectangle" || t.kind == "v") && d.geometry != "3d-quarter")
-      throw InputError("target.kind", fmt::format("'{}' needs geometry = \"3d-quarter\" (2D axisymmetric: disc or annulus)", t.kind));
-    range("target.half_length_m", t.half_length_m, 0.0, d.mesh.domain_radius_m, "m", true);
-    range("target.half_width_m", t.half_width_m, 0.0, d.mesh.domain_radius_m, "m", true);
-    range("target.apex_angle_deg", t.apex_angle_deg, 30.0, 180.0, "degrees");
-    oneOf("target.motion", t.motion, {"free", "fixed"});
-    if (t.kind != "none") {
-      range("target.radius_m", t.radius_m, 0.0, d.mesh.domain_radius_m, "m", true);
-      range("target.inner_radius_m", t.inner_radius_m, 0.0, t.radius_m, "m");
-      range("target.thickness_m", t.thickness_m, d.mesh.cell_size_m, 1.0, "m");
-      range("target.standoff_m", t.standoff_m, 0.0, d.mesh.domain_top_m, "m");
-      if (t.motion == "free") range("target.mass_kg", t.mass_kg, 0.0, 1e6, "kg", true);
-      if (t.standoff_m + t.thickness_m > d.mesh.domain_top_m - 2.0 * d.mesh.cell_size_m)
-        throw InputError("target.standoff_m", "the plate must lie inside the domain (raise mesh.domain_top_m)");
+  const auto& out = d.output;
+  // output times: increasing (times after end_time_s are simply not reached: a run shortened with
+  // --set end_time_s keeps its deck's later times)
+  for (const auto& [key, times] : {std::pair<const char*, const std::vector<double>*>{"output.profile_times_s", &out.profile_times_s},
+                                   {"output.field_times_s", &out.field_times_s}}) {
+    double prev = 0.0;
+    for (const double time : *times) {
+      if (!(time > prev)) throw InputError(key, fmt::format("{:g} s is out of range; valid: increasing times > 0 s", time));
+      prev = time;
     }
   }
-  {
-    Reader r(top.sub("output"), "output");
-    auto& o = d.output;
-    r.num("history_interval_s", o.history_interval_s);
-    r.numList("profile_times_s", o.profile_times_s);
-    r.numList("field_times_s", o.field_times_s);
-    r.num("surface_soil_fraction", o.surface_soil_fraction);
-    if (const auto* n = root.get("output") ? root.get("output")->as_table() : nullptr) {
-      r.mark("gauges_m");
-      if (const auto* g = n->get("gauges_m")) {
-        const auto* arr = g->as_array();
-        if (!arr) throw InputError("output.gauges_m", "must be a list of [r, z] pairs");
-        for (const auto& e : *arr) {
-          const auto* pt = e.as_array();
-          if (!pt || pt->size() != 2 || !(*pt)[0].value<double>() || !(*pt)[1].value<double>())
-            throw InputError("output.gauges_m", "must be a list of [r, z] pairs (m)");
-          o.gauges_m.push_back({*(*pt)[0].value<double>(), *(*pt)[1].value<double>()});
-        }
-      }
-    }
-    r.finish();
-    range("output.history_interval_s", o.history_interval_s, 1e-8, 1.0, "s");
-    range("output.surface_soil_fraction", o.surface_soil_fraction, 0.01, 1.0, "-");
-    // output times: positive and increasing (times after end_time_s are simply not reached: a run
-    // shortened with --set end_time_s keeps its deck's later times)
-    for (const auto& [key, times] : {std::pair<const char*, const std::vector<double>*>{"output.profile_times_s", &o.profile_times_s},
-                                     {"output.field_times_s", &o.field_times_s}}) {
-      double prev = 0.0;
-      for (const double t : *times) {
-        if (!(t > prev) || !std::isfinite(t))
-          throw InputError(key, fmt::format("{:g} s is out of range; valid: increasing times > 0 s", t));
-        prev = t;
-      }
-    }
-    for (const auto& g : o.gauges_m) {
-      if (!std::isfinite(g[0]) || !std::isfinite(g[1]) || g[0] < 0.0 || g[0] > d.mesh.domain_radius_m || g[1] < d.mesh.domain_bottom_m || g[1] > d.mesh.domain_top_m)
-        throw InputError("output.gauges_m", fmt::format("gauge ({:g}, {:g}) m is outside the domain", g[0], g[1]));
-    }
+  for (const auto& g : out.gauges_m) {
+    if (g[0] < 0.0 || g[0] > m.domain_radius_m || g[1] < m.domain_bottom_m || g[1] > m.domain_top_m)
+      throw InputError("output.gauges_m", fmt::format("gauge ({:g}, {:g}) m is outside the domain", g[0], g[1]));
   }
-  top.finish();
 
   // The charge must sit inside the soil and the domain.
   const double top_of_charge = -d.charge.depth_of_burial_m;
@@ -375,9 +455,130 @@ Deck parseDeck(const std::string& text, const std::vector<std::string>& override
                                                  ground));
   if (!d.soil.empty() && !charge_in_soil)
     throw InputError("charge.depth_of_burial_m", "the charge's top is not inside any soil layer");
-  std::stringstream js;
-  js << toml::json_formatter{root};
-  d.echo = nlohmann::json::parse(js.str());
+}
+
+std::string typeName(const DeckKeyInfo& k) {
+  switch (k.type) {
+    case KeyType::Number: return "number";
+    case KeyType::Text: return "text";
+    case KeyType::Boolean: return "boolean";
+    case KeyType::NumberList: return "list of numbers";
+    case KeyType::PointList: return "list of [r, z]";
+  }
+  return "";
+}
+
+std::string validText(const DeckKeyInfo& k) {
+  if (k.type == KeyType::Boolean) return "true, false";
+  if (k.type == KeyType::Text) return k.choices.empty() ? "any" : fmt::format("{}", fmt::join(k.choices, ", "));
+  std::string r = k.range.text();
+  if (k.special) r += fmt::format(" or {:g}", *k.special);
+  return r;
+}
+
+}  // namespace
+
+const std::vector<DeckKeyInfo>& deckKeys() {
+  static const std::vector<DeckKeyInfo> infos = [] {
+    std::vector<DeckKeyInfo> v;
+    for (const auto& k : keyTable()) v.push_back(k.info);
+    return v;
+  }();
+  return infos;
+}
+
+std::string deckReference(bool markdown) {
+  std::string out;
+  if (markdown) {
+    out += "| key | type | unit | valid | default | meaning |\n|---|---|---|---|---|---|\n";
+    for (const auto& k : deckKeys())
+      out += fmt::format("| `{}` | {} | {} | {} | `{}` | {} |\n", k.path, typeName(k), k.unit.empty() ? "" : k.unit, validText(k), k.default_text, k.help);
+    return out;
+  }
+  for (const auto& k : deckKeys())
+    out += fmt::format("{}  ({}{}; valid {}; default {})\n    {}\n", k.path, typeName(k), k.unit.empty() ? "" : ", " + k.unit, validText(k),
+                       k.default_text, k.help);
+  return out;
+}
+
+materials::SandInputs sandInputsOf(const SoilSpec& s) {
+  materials::SandInputs in;
+  in.moisture = s.moisture;
+  in.dry_density = s.wet_density_kg_m3 > 0.0 ? s.wet_density_kg_m3 / (1.0 + s.moisture) : s.dry_density_kg_m3;
+  in.water = materials::waterEosByName(s.water_eos);
+  in.plateau.scale = s.plateau_scale;
+  in.thermal_gamma = s.thermal_gamma;
+  return in;
+}
+
+materials::SandInputs sandInputsOf(const BackfillSpec& b, const SoilSpec& first_layer) {
+  SoilSpec s = first_layer;
+  s.wet_density_kg_m3 = b.wet_density_kg_m3;
+  s.dry_density_kg_m3 = b.dry_density_kg_m3;
+  s.moisture = b.moisture;
+  return sandInputsOf(s);
+}
+
+Deck parseDeck(const std::string& text, const std::vector<std::string>& overrides, const std::string& source) {
+  toml::table root;
+  try {
+    root = toml::parse(text, source);
+  } catch (const toml::parse_error& e) {
+    throw InputError(source, fmt::format("TOML syntax error at line {}: {}", e.source().begin.line, e.description()));
+  }
+  for (const auto& ov : overrides) applyOverride(root, ov);
+
+  // the shape of the file: known keys only, tables where the table has sections
+  refuseUnknownKeys(root, "", "");
+  std::vector<const toml::table*> layers;
+  if (const auto* n = root.get("soil")) {
+    const auto* arr = n->as_array();
+    if (!arr) throw InputError("soil", "must be [[soil]] tables");
+    for (std::size_t i = 0; i < arr->size(); ++i) {
+      const auto* t = arr->get(i)->as_table();
+      if (!t) throw InputError("soil", "must be [[soil]] tables");
+      refuseUnknownKeys(*t, "soil", fmt::format("soil.{}", i));
+      layers.push_back(t);
+    }
+  }
+  std::set<std::string> sections;
+  for (const auto& k : keyTable())
+    if (!k.section.empty() && k.section != "soil") sections.insert(k.section);
+  for (const auto& s : sections)
+    if (const auto* t = sectionTable(root, s)) refuseUnknownKeys(*t, s, s);
+
+  Deck d;
+  d.soil.resize(layers.size());
+  for (const auto& k : keyTable()) {
+    const std::size_t n = k.section == "soil" ? layers.size() : 1;
+    for (std::size_t i = 0; i < n; ++i) {
+      const toml::table* t = k.section.empty() ? &root : (k.section == "soil" ? layers[i] : sectionTable(root, k.section));
+      if (!t) continue;
+      const std::string path = keyPath(k, i);
+      if (const auto* node = t->get(k.name)) readValue(*node, k, k.field(d, i), path);
+    }
+  }
+  // every key's own range, defaults included, then what depends on other keys
+  for (const auto& k : keyTable()) {
+    const std::size_t n = k.section == "soil" ? d.soil.size() : 1;
+    for (std::size_t i = 0; i < n; ++i) checkValue(k, k.field(d, i), keyPath(k, i));
+  }
+  checkConsistency(d);
+
+  // the resolved deck: every key's value, so that a changed default shows in the echo
+  nlohmann::json echo = nlohmann::json::object();
+  echo["soil"] = nlohmann::json::array();
+  for (std::size_t i = 0; i < d.soil.size(); ++i) echo["soil"].push_back(nlohmann::json::object());
+  for (const auto& k : keyTable()) {
+    if (k.section == "soil") {
+      for (std::size_t i = 0; i < d.soil.size(); ++i) echo["soil"][i][k.name] = jsonOf(k.field(d, i));
+    } else if (k.section.empty()) {
+      echo[k.name] = jsonOf(k.field(d, 0));
+    } else {
+      echo[k.section][k.name] = jsonOf(k.field(d, 0));
+    }
+  }
+  d.echo = std::move(echo);
   return d;
 }
 

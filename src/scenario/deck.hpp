@@ -8,6 +8,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/range.hpp"
+#include "materials/sand_model.hpp"
+
 namespace ejecta::scenario {
 
 struct MeshSpec {
@@ -95,8 +98,32 @@ struct Deck {
   double cfl = 0.45;
   EarlySpec early;
   OutputSpec output;
-  nlohmann::json echo;   // the deck as read, after overrides
+  nlohmann::json echo;   // the resolved deck: every key's value after the file, --set and the defaults
 };
+
+// --- the deck's keys, declared once -------------------------------------------------------------
+// One table drives the TOML reader, `--set`, the range checks, `ejecta run --help-deck`, the deck
+// reference in docs/run.md (generated from it, with a test that it is current) and the resolved
+// deck echoed in summary.json. A key's default is the Spec struct's initialiser above.
+enum class KeyType { Number, Text, Boolean, NumberList, PointList };
+
+struct DeckKeyInfo {
+  std::string path;                    // dotted, as --set takes it; layers: "soil.N.moisture"
+  KeyType type = KeyType::Number;
+  std::string unit;                    // SI unit ("-" for a ratio), empty for text and booleans
+  Range range;                         // numbers (and each number of a list)
+  std::optional<double> special;       // a value allowed outside the range, with its meaning in help
+  std::vector<std::string> choices;    // text keys with a fixed set of values; empty: free text
+  std::string help;
+  std::string default_text;            // the default, as a TOML value
+};
+const std::vector<DeckKeyInfo>& deckKeys();
+// The reference table for docs/run.md (markdown) and for `--help-deck` (plain text).
+std::string deckReference(bool markdown);
+
+// The sand model's inputs of a layer and of the backfill (which takes the first layer's options).
+materials::SandInputs sandInputsOf(const SoilSpec& s);
+materials::SandInputs sandInputsOf(const BackfillSpec& b, const SoilSpec& first_layer);
 
 // Parses TOML text; `overrides` are "dotted.key=value" with a TOML value. Throws InputError.
 Deck parseDeck(const std::string& text, const std::vector<std::string>& overrides = {}, const std::string& source = "deck");

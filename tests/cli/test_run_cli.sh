@@ -36,10 +36,17 @@ rc=$?
 check "unknown key: exit 2 (got $rc)" "[[ $rc -eq 2 ]]"
 check "unknown key: names charge.mas_kg ('$err')" "grep -q 'charge.mas_kg' <<< \"\$err\""
 check "unknown key: nothing written" "[[ ! -e c ]]"
+check "summary echoes the resolved deck: a default the deck leaves out is there" "python3 -c 'import json; d=json.load(open(\"a/summary.json\"))[\"deck\"]; assert d[\"early\"][\"signal_speed_m_s\"] == 6000.0 and d[\"soil\"][0][\"thermal_gamma\"] == -1.0, d'"
+err=$("$ejecta" run "${common[@]}" --set $'cfl=0.3\nend_time_s=0.5' --out c 2>&1 >/dev/null)
+check "text after a --set value is refused: exit 2 naming the key" "[[ $? -eq 2 ]] && grep -q 'cfl' <<< \"\$err\" && [[ ! -e c ]]"
+"$ejecta" run --help-deck > deckhelp.txt
+check "--help-deck lists every section's keys with ranges" "grep -q '^soil.N.moisture' deckhelp.txt && grep -q '^target.standoff_m' deckhelp.txt && grep -q 'valid \\[0.05, 0.9\\]' deckhelp.txt"
+"$ejecta" run --help-deck html > /dev/null 2>&1
+check "--help-deck with an unknown format: exit 2" "[[ $? -eq 2 ]]"
 err=$("$ejecta" run "${common[@]}" --set charge.depth_of_burial_m=3 --out c 2>&1 >/dev/null)
 check "charge outside the domain: exit 2 naming it" "[[ $? -eq 2 ]] && grep -q depth_of_burial <<< \"\$err\""
 err=$("$ejecta" run "${common[@]}" --set 'soil=[{dry_density_kg_m3=1670.0, moisture=0.30}]' --out c 2>&1 >/dev/null)
-check "saturation over 100%: exit 2 naming the soil" "[[ $? -eq 2 ]] && grep -q 'soil\[0\]' <<< \"\$err\""
+check "saturation over 100%: exit 2 naming the layer's moisture" "[[ $? -eq 2 ]] && grep -q 'soil.0.moisture' <<< \"\$err\""
 for bad in "output.field_times_s=[0.0]" "output.profile_times_s=[0.0005,0.0002]" "output.field_times_s=[-1.0]"; do
   err=$("$ejecta" run "${common[@]}" --set "$bad" --out c 2>&1 >/dev/null)
   check "bad output times ($bad): exit 2 naming the key" "[[ $? -eq 2 ]] && grep -q '${bad%%=*}' <<< \"\$err\""

@@ -3,7 +3,9 @@
 #include <filesystem>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <set>
 
 #include "ejecta/build_info.hpp"
 #include "core/error.hpp"
@@ -120,7 +122,7 @@ moisture = 0.07
   EXPECT_EQ(field(base, {"charge.depth_of_burial_m=5.0"}), "charge.depth_of_burial_m");   // outside the domain
   EXPECT_EQ(field(base, {"mesh.cell_size_m=-0.01"}), "mesh.cell_size_m");
   EXPECT_EQ(field(base, {"nonsense"}), "--set");
-  EXPECT_EQ(field("[[soil]]\nwet_density_kg_m3 = 1370.0\nmoisture = 1.5\n"), "soil[0].moisture");
+  EXPECT_EQ(field("[[soil]]\ndry_density_kg_m3 = 1600.0\nmoisture = 0.3\n"), "soil.0.moisture");   // saturation over 100%
   EXPECT_EQ(field("x = [\n"), "deck");   // syntax error
   EXPECT_EQ(field(base, {"charge.shape=box"}), "charge.shape");   // a box needs 3D
   // an entry of a list of tables is named by its index
@@ -128,9 +130,55 @@ moisture = 0.07
   EXPECT_EQ(scenario::parseDeck(base, {"soil.0.water_eos=alt"}).soil.at(0).water_eos, "alt");
   EXPECT_EQ(field(base, {"soil.1.moisture=0.1"}), "soil.1.moisture");
   EXPECT_EQ(field(base, {"soil.x.moisture=0.1"}), "soil.x.moisture");
-  EXPECT_EQ(field(base, {"soil.0.moisture=1.5"}), "soil[0].moisture");
+  EXPECT_EQ(field(base, {"soil.0.moisture=1.5"}), "soil.0.wet_density_kg_m3");   // leaves a dry density of porosity 0.79
+  EXPECT_EQ(field(base, {"soil.0.moisture=-0.1"}), "soil.0.moisture");
+  EXPECT_EQ(field(base, {"soil.0.dry_density_kg_m3=1300"}), "soil.0");   // both densities given
+  EXPECT_EQ(field(base, {"soil.0.wet_density_kg_m3=100"}), "soil.0.wet_density_kg_m3");   // porosity over 0.7: the sand model's range, the deck's name
+  EXPECT_EQ(field(base, {"soil.0.plateau_scale=11"}), "soil.0.plateau_scale");
+  EXPECT_EQ(field(base, {"soil.0.mosture=0.1"}), "soil.0.mosture");   // unknown key inside a layer
+  EXPECT_EQ(field(base, {"cfl=0.3\nend_time_s=0.5"}), "cfl");        // one value per --set: no text after it
+  EXPECT_EQ(field(base, {"mesh.cell_size_m=true"}), "mesh.cell_size_m");
+  EXPECT_EQ(field(base, {"output.gauges_m=[[0.1, nan]]"}), "output.gauges_m");
   EXPECT_EQ(field(base, {"gravity=1"}), "gravity");   // a boolean
   EXPECT_EQ(field(base, {"products_adiabat=false"}), "products_adiabat");   // removed (solver revision 3): unknown
+}
+
+// The key table is the one declaration: the deck's ranges are the sand model's, every key has help
+// and a unit where it is a number, and the echo is the resolved deck (defaults included).
+TEST(Deck, OneTableDeclaresEveryKey) {
+  const auto& keys = scenario::deckKeys();
+  std::set<std::string> paths;
+  for (const auto& k : keys) {
+    SCOPED_TRACE(k.path);
+    EXPECT_TRUE(paths.insert(k.path).second);
+    EXPECT_FALSE(k.help.empty());
+    EXPECT_FALSE(k.default_text.empty());
+    if (k.type == scenario::KeyType::Number) {
+      EXPECT_FALSE(k.unit.empty());
+    }
+  }
+  auto find = [&](const std::string& p) {
+    const auto it = std::find_if(keys.begin(), keys.end(), [&](const auto& k) { return k.path == p; });
+    EXPECT_NE(it, keys.end()) << p;
+    return *it;
+  };
+  for (const auto& [path, range] : {std::pair{"soil.N.moisture", materials::kMoistureRange}, {"soil.N.plateau_scale", materials::kPlateauScaleRange},
+                                    {"soil.N.thermal_gamma", materials::kThermalGammaRange}, {"backfill.moisture", materials::kMoistureRange}}) {
+    const auto k = find(path);
+    EXPECT_EQ(k.range.text(), range.text()) << path;
+  }
+  // the echo holds every key, including those the file leaves to their defaults
+  const auto d = scenario::parseDeck("[[soil]]\nwet_density_kg_m3 = 1370.0\n");
+  EXPECT_DOUBLE_EQ(d.echo.at("target").at("standoff_m").get<double>(), scenario::TargetSpec{}.standoff_m);
+  EXPECT_DOUBLE_EQ(d.echo.at("soil").at(0).at("moisture").get<double>(), scenario::SoilSpec{}.moisture);
+  EXPECT_EQ(d.echo.at("early").at("enabled").get<bool>(), scenario::EarlySpec{}.enabled);
+  std::size_t echoed = 0;
+  for (const auto& [section, v] : d.echo.items()) {
+    if (v.is_object()) echoed += v.size();
+    else if (v.is_array()) echoed += v.at(0).size();
+    else ++echoed;
+  }
+  EXPECT_EQ(echoed, keys.size());
 }
 
 TEST(Case, VPlateInThreeDimensionsSitsOnItsWingsAndTakesLoad) {
