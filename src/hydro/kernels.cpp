@@ -27,7 +27,7 @@ void Pencil::resize(int cells, int materials) {
   M = materials;
   const auto sN = static_cast<std::size_t>(N), sF = sN + 1, sMN = sN * static_cast<std::size_t>(M),
              sMF = sF * static_cast<std::size_t>(M);
-  for (auto* v : {&vol, &rho, &P, &K, &Z, &hoop, &vlag, &mass, &ke, &su, &sp}) v->assign(sN, 0.0);
+  for (auto* v : {&vol, &rho, &P, &K, &Z, &hoop, &pmin, &vlag, &mass, &ke, &su, &sp}) v->assign(sN, 0.0);
   for (auto* v : {&area, &ustar, &pstar, &dvol}) v->assign(sF, 0.0);
   for (auto& v : u) v.assign(sN, 0.0);
   for (auto& v : mom) v.assign(sN, 0.0);
@@ -107,8 +107,8 @@ void solveFaces(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     if (P.solid[L] | P.solid[R]) {
       // a wall moving with the body: the flow's half of the Riemann problem, no swept volume
       double ps = 0.0;
-      if (!P.solid[L]) ps = pL + zl * (uL - wall_u);
-      else if (!P.solid[R]) ps = pR + zr * (wall_u - uR);
+      if (!P.solid[L]) ps = std::max(pL + zl * (uL - wall_u), P.pmin[L]);
+      else if (!P.solid[R]) ps = std::max(pR + zr * (wall_u - uR), P.pmin[R]);
       P.ustar[sf] = wall_u;
       P.pstar[sf] = ps;
       P.dvol[sf] = 0.0;

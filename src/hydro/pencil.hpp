@@ -25,6 +25,7 @@ struct Pencil {
   std::vector<double> vol, area;
   std::array<std::vector<double>, 3> u;   // velocity components (global axes)
   std::vector<double> rho, P, K, Z, hoop;
+  std::vector<double> pmin;                   // the cell's tension limit (volume weighted): a wall's floor
   std::array<std::vector<double>, 2> shear;   // mixture s_{d,t} for the two transverse axes
   std::vector<double> a, r, e, h, pk, kk, wl;   // per material: alpha, rho, e, history, p, rho c^2, WLIC weight
   std::array<std::vector<double>, 6> s;
@@ -76,7 +77,8 @@ void computeSlopes(Pencil& P, const SweepSetup& S);
 
 // Acoustic Riemann problem (Z = rho c) with MUSCL-Hancock states at faces 1 .. N-1: face
 // velocity u*, normal stress p*, swept volume. A face beside the body is a wall moving with it:
-// the flow's half of the Riemann problem, no swept volume; its load goes to `ledger`.
+// the flow's half of the Riemann problem, never below the flow cell's tension limit (a wall that
+// the flow leaves cannot pull it back), no swept volume; its load goes to `ledger`.
 void solveFaces(Pencil& P, const SweepSetup& S, PencilLedger& ledger);
 
 // Lagrange phase of cells 1 .. N-2: momentum and total energy in flux form, volumes moved,

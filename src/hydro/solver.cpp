@@ -519,7 +519,7 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
     const std::size_t c = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(base) + i * stride), si = static_cast<std::size_t>(i);
     for (std::size_t q = 0; q < 3; ++q) P.u[q][si] = u_[q][c];
     P.solid[si] = body_.empty() ? 0 : body_[c];
-    double rho = 0.0, p = 0.0, kv = 0.0, snn = 0.0, stt = 0.0, sh1 = 0.0, sh2 = 0.0;
+    double rho = 0.0, p = 0.0, kv = 0.0, snn = 0.0, stt = 0.0, sh1 = 0.0, sh2 = 0.0, pmin = 0.0;
     for (int k = 0; k < M; ++k) {
       const auto& F = fields_[static_cast<std::size_t>(k)];
       const auto& mat = mats_[static_cast<std::size_t>(k)];
@@ -538,6 +538,7 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
         rho += al * F.rho[c];
         p += al * st.pressure;
         kv += al * st.bulk;
+        pmin += al * materials::tensionLimit(mat);
       } else {
         P.pk[ki] = 0.0;
         P.kk[ki] = 0.0;
@@ -556,6 +557,7 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
     P.P[si] = p - snn;
     P.hoop[si] = p - stt;
     P.K[si] = kv;
+    P.pmin[si] = pmin;
     P.Z[si] = std::sqrt(std::max(rho * kv, 1e-30));
     P.shear[0][si] = sh1;
     P.shear[1][si] = sh2;
@@ -768,7 +770,7 @@ Vec3 Solver::bodyLoad() const {
             if (idx[d] < 0 || idx[d] >= grid_.cells(d)) continue;   // as the sweep: a ghost neighbour is the boundary's
             const std::size_t nb = grid_.index(idx[0], idx[1], idx[2]);
             if (body_[nb]) continue;
-            double rho = 0.0, p = 0.0, kv = 0.0, snn = 0.0;
+            double rho = 0.0, p = 0.0, kv = 0.0, snn = 0.0, pmin = 0.0;
             for (std::size_t q = 0; q < mats_.size(); ++q) {
               const auto& F = fields_[q];
               if (F.alpha[nb] <= 0.0) continue;
@@ -776,12 +778,13 @@ Vec3 Solver::bodyLoad() const {
               rho += F.alpha[nb] * F.rho[nb];
               p += F.alpha[nb] * st.pressure;
               kv += F.alpha[nb] * st.bulk;
+              pmin += F.alpha[nb] * materials::tensionLimit(mats_[q]);
               if (!F.s[0].empty()) snn += F.alpha[nb] * F.s[static_cast<std::size_t>(d)][nb];
             }
             const double z = std::sqrt(std::max(rho * kv, 1e-30));
             const double un = u_[static_cast<std::size_t>(d)][nb], uw = body_velocity_[static_cast<std::size_t>(d)];
             // fluid below the body (side 0) pushes it up the axis; above, down
-            const double ps = side == 0 ? (p - snn) + z * (un - uw) : (p - snn) + z * (uw - un);
+            const double ps = std::max(side == 0 ? (p - snn) + z * (un - uw) : (p - snn) + z * (uw - un), pmin);
             const double area = side == 0 ? grid_.faceArea(d, i, j, k) : grid_.faceArea(d, idx[0], idx[1], idx[2]);
             f[static_cast<std::size_t>(d)] += (side == 0 ? 1.0 : -1.0) * ps * area;
           }

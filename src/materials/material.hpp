@@ -132,6 +132,18 @@ inline EosState evaluateEos(const Material& m, double rho, double e, double h0) 
   return {0.0, 1e5};
 }
 
+// The lowest pressure the material can carry, Pa: 0 for gases and detonation products, the spall
+// limit of a Mie-Gruneisen solid, the sand's tension cutoff. A wall cannot pull on it harder.
+inline double tensionLimit(const Material& m) noexcept {
+  switch (m.eos) {
+    case EosKind::MieGruneisen: return m.mg.p_min;
+    case EosKind::Sand: return m.sand->tensionCutoff();
+    case EosKind::IdealGas:
+    case EosKind::Jwl: return 0.0;
+  }
+  return 0.0;
+}
+
 // The history scalar after a cell holds the material at density rho: the sand's largest natural
 // strain ln(rho/rho0) grows (it sets the unloading branch and the shear modulus); the burn
 // fraction of products is the burn's to change.
