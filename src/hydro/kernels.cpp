@@ -111,7 +111,7 @@ void solveFaces(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
       else if (!P.solid[R]) ps = std::max(pR + zr * (wall_u - uR), P.pmin[R]);
       P.ustar[sf] = wall_u;
       P.pstar[sf] = ps;
-      P.dvol[sf] = 0.0;
+      P.dvol[sf] = S.grid_disp ? P.area[sf] * S.grid_disp[sf] : 0.0;   // the wall and its mesh face move together
       // the load on the body at faces between an interior flow cell and an interior body cell
       // (a body cell in the ghost layer is the boundary's: its work is booked there)
       if ((P.solid[L] ^ P.solid[R]) && f >= g && f <= g + n) {
@@ -402,7 +402,7 @@ void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
   const bool second = S.second_order;
   for (int f = g; f <= g + n; ++f) {
     const std::size_t sf = static_cast<std::size_t>(f);
-    const double dvf = P.dvol[sf];
+    const double dvf = (P.solid[sf - 1] | P.solid[sf]) ? 0.0 : (S.grid_disp ? P.dvol[sf] - P.area[sf] * S.grid_disp[sf] : P.dvol[sf]);
     for (int k = 0; k < M; ++k) {
       const std::size_t kf = P.atFace(k, f);
       P.fv[kf] = P.fm[kf] = P.fe[kf] = P.fh[kf] = P.fkek[kf] = 0.0;
@@ -490,6 +490,13 @@ void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     }
     if (f == g) ledger.boundary_in += eflow;
     if (f == g + n) ledger.boundary_in -= eflow;
+  }
+}
+
+void moveCellVolumes(Pencil& P, const SweepSetup& S) {
+  for (int i = kGhost; i < kGhost + P.n; ++i) {
+    const std::size_t si = static_cast<std::size_t>(i);
+    P.vol[si] += P.area[si + 1] * S.grid_disp[si + 1] - P.area[si] * S.grid_disp[si];
   }
 }
 

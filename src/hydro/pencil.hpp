@@ -61,6 +61,7 @@ struct SweepSetup {
   const double* width = nullptr;   // [N]
   const double* xf = nullptr;  // [N + 1]
   const double* inv_dx = nullptr;  // [N], 1 / (xc[i] - xc[i-1])
+  const double* grid_disp = nullptr;   // [N + 1], m: how far each face moves this sweep (a body moving the mesh; else 0)
 };
 
 // Energy booked by one pencil in one sweep, J (axisymmetric: per radian).
@@ -108,11 +109,16 @@ struct MixedCell {
 double volumeWork(double p, double K, double v0, double dv);
 void closeMixedCell(MixedCell& c, double V, double Vl, double die);
 
-// Remap fluxes through faces g .. g+n: each material's volume (THINC profile weighted by the
+// Remap fluxes through faces g .. g+n, onto the faces moved by S.grid_disp (the Lagrangian face's
+// overshoot of the moved face is what crosses it; nothing crosses a face beside the body, which
+// moves with it): each material's volume (THINC profile weighted by the
 // interface orientation), mass, energy, history and stress at donor values (limited slopes in
 // pure regions), momentum with limited slopes, and each material's kinetic energy.
 void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger);
 
+// The cells' volumes on the moved faces (after remapFluxes, before the scatter): V + A (dz_R - dz_L),
+// which is the Lagrangian volume less what the remap moved out.
+void moveCellVolumes(Pencil& P, const SweepSetup& S);
 // Kinetic energy that a remap (or a rezone) took from the flow, returned as heat: `heat` in all
 // (sum of `loss` plus anything else to place), to each material as it lost it, but never more
 // than twice the cell's mean heat per unit mass (a sliver whose in- and outflow nearly cancel

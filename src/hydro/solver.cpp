@@ -5,6 +5,7 @@
 #include <cmath>
 #include <istream>
 #include <limits>
+#include <optional>
 #include <ostream>
 
 #include <fmt/format.h>
@@ -120,6 +121,61 @@ void Solver::setBody(const std::function<bool(const Vec3&)>& inside) {
   body_impulse_mat_.assign(mats_.size(), Vec3{});
 }
 
+void Solver::moveMeshWithBody(int axis, double anchor_below, double anchor_above) {
+  if (body_.empty()) throw InputError("target", "the mesh moves with a body: set the body first");
+  if (axis < 0 || axis >= grid_.dims() || (axis == 0 && grid_.axisymmetric()))
+    throw InputError("target", "the body moves the mesh along z (axisymmetric) or any Cartesian axis");
+  int lo = grid_.cells(axis), hi = -1;
+  for (std::size_t c = 0; c < body_.size(); ++c) {
+    if (!body_[c] || !grid_.isInterior(c)) continue;
+    const auto ix = grid_.unflatten(c);
+    const int j = axis == 0 ? ix.i : (axis == 1 ? ix.j : ix.k);
+    lo = std::min(lo, j);
+    hi = std::max(hi, j + 1);
+  }
+  if (hi < 0) throw InputError("target", "the body holds no cell of the mesh");
+  const auto& f = grid_.axis(axis).faces();
+  auto nearest = [&](double z) {
+    int best = 0;
+    for (int q = 0; q < static_cast<int>(f.size()); ++q)
+      if (std::abs(f[static_cast<std::size_t>(q)] - z) < std::abs(f[static_cast<std::size_t>(best)] - z)) best = q;
+    return best;
+  };
+  const int below = std::min(nearest(anchor_below), lo - 1), above = std::max(nearest(anchor_above), hi + 1);
+  if (below < 0 || above > grid_.cells(axis))
+    throw InputError("target", "the body needs at least one cell of mesh below and above it to move through");
+  mesh_axis_ = axis;
+  faces0_ = f;
+  f_lo_ = below;
+  f_b0_ = lo;
+  f_b1_ = hi;
+  f_hi_ = above;
+  body_offset_ = 0.0;
+}
+
+mesh::Axis Solver::movedAxis(double offset) const {
+  std::vector<double> f = faces0_;
+  const auto at = [&](int q) { return faces0_[static_cast<std::size_t>(q)]; };
+  const double zlo = at(f_lo_), zb0 = at(f_b0_), zb1 = at(f_b1_), zhi = at(f_hi_);
+  for (int q = f_lo_ + 1; q < f_hi_; ++q) {
+    const double z0 = at(q);
+    double w = 1.0;   // the body's band moves rigidly; below and above it the mesh stretches or closes up
+    if (q < f_b0_) w = (z0 - zlo) / (zb0 - zlo);
+    else if (q > f_b1_) w = (zhi - z0) / (zhi - zb1);
+    f[static_cast<std::size_t>(q)] = z0 + w * offset;
+  }
+  // A cell squeezed to a quarter of its height (or stretched fourfold) would cost the run its time
+  // step or its resolution: the body has left the room the deck gave it.
+  for (std::size_t q = 0; q + 1 < f.size(); ++q) {
+    const double ratio = (f[q + 1] - f[q]) / (faces0_[q + 1] - faces0_[q]);
+    if (!(ratio > 0.25 && ratio < 4.0))
+      throw RunError(fmt::format("the body has moved {:.4g} m along axis {} at t = {:.6g} s: the mesh between it and z = {:.4g} m or {:.4g} m "
+                                 "cannot stretch further (raise the domain, or end the run sooner)",
+                                 offset, mesh_axis_, time_, zlo, zhi));
+  }
+  return mesh::Axis(std::move(f));
+}
+
 namespace {
 constexpr std::uint64_t kCheckpointMagic = 0x454a45435441434bULL;   // "EJECTACK"
 template <class T>
@@ -154,6 +210,7 @@ void Solver::writeCheckpoint(std::ostream& os) const {
   }
   for (const auto& c : u_) putVec(os, c);
   putRaw(os, energy_);
+  putRaw(os, body_offset_);
 }
 
 void Solver::readCheckpoint(std::istream& is) {
@@ -177,7 +234,11 @@ void Solver::readCheckpoint(std::istream& is) {
   }
   for (auto& c : u_) getVec(is, c);
   getRaw(is, energy_);
+  getRaw(is, body_offset_);
   if (!is) throw InputError("restart", "the checkpoint is truncated");
+  if (!std::isfinite(body_offset_) || (mesh_axis_ < 0 && body_offset_ != 0.0))
+    throw InputError("restart", "the checkpoint's body offset does not fit this set-up");
+  if (mesh_axis_ >= 0) grid_.moveFaces(mesh_axis_, movedAxis(body_offset_));
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -661,6 +722,15 @@ void Solver::sweep(int d, double dt) {
   S.width = line_w.data();
   S.xf = line_rf.data();
   S.inv_dx = line_inv.data();
+  // A body that moves the mesh: this sweep remaps onto the faces moved with it.
+  std::vector<double> line_gd(static_cast<std::size_t>(Nl) + 1, 0.0);
+  std::optional<mesh::Axis> moved;
+  const double offset_after = d == mesh_axis_ ? body_offset_ + body_velocity_[static_cast<std::size_t>(d)] * dt : body_offset_;
+  if (d == mesh_axis_ && offset_after != body_offset_) {
+    moved = movedAxis(offset_after);
+    for (int f = 0; f <= n; ++f) line_gd[static_cast<std::size_t>(f + g)] = moved->faces()[static_cast<std::size_t>(f)] - grid_.face(d, f);
+  }
+  S.grid_disp = line_gd.data();
   // Each pencil books its own energy and impulse; they are summed in pencil order afterwards,
   // so the result does not depend on the number of threads.
   std::vector<PencilLedger> ledgers(static_cast<std::size_t>(n1) * static_cast<std::size_t>(n2));
@@ -685,10 +755,15 @@ void Solver::sweep(int d, double dt) {
         solveFaces(P, S, ledger);
         lagrangeUpdate(P, S, ledger);
         remapFluxes(P, S, ledger);
+        if (moved) moveCellVolumes(P, S);
         my_bad = std::min(my_bad, scatterPencil(P, d, base));
       }
 #pragma omp critical
     bad_cell = std::min(bad_cell, my_bad);
+  }
+  if (moved) {
+    grid_.moveFaces(d, std::move(*moved));
+    body_offset_ = offset_after;
   }
   for (const auto& l : ledgers) {
     energy_.boundary_in += l.boundary_in;

@@ -39,7 +39,7 @@ struct DetonationPoint {
 // Revision of the numerics: raised whenever a change alters results (2: products' adiabat;
 // 3: no adiabat, energy conserved with a ledger, mixed-cell heat by compression, the sand's energy
 // term; 4: mixed-cell work along each material's polytrope, relaxation heat capped per unit mass;
-// 5: a wall's load never below the tension limit of the flow beside it).
+// 5: a wall's load never below the tension limit of the flow beside it, a free target moves the mesh).
 // `ejecta validate --reuse` reruns a case saved by another revision.
 inline constexpr int kSolverRevision = 5;
 
@@ -116,9 +116,15 @@ class Solver {
   // Cells whose centre is inside the body become walls that move with the body's velocity: no
   // material enters them; the normal stress the flow exerts on their faces (from the same Riemann
   // solver) is the load, and the flow gets the opposite momentum, so momentum is conserved exactly.
-  // The body's cells stay where they are (its displacement is small against the flow's; the run
-  // driver tracks it).
   void setBody(const std::function<bool(const Vec3&)>& inside);
+  // The body moves through the flow along `axis` and carries the mesh with it (an ALE region): the
+  // faces from the one nearest `anchor_below` (m) up to the body's lowest face stretch linearly,
+  // the body's band of faces translates with it, and the faces from its highest face up to the one
+  // nearest `anchor_above` close up linearly; the rest stay. The body's faces stay mesh faces, so
+  // the gap beneath a rising plate opens in the mesh and the flow in it expands. Each sweep along
+  // `axis` remaps onto the moved faces. Call after setBody. Without it the body stays where it is.
+  void moveMeshWithBody(int axis, double anchor_below, double anchor_above);
+  double bodyOffset() const { return body_offset_; }   // m, how far the body (and its mesh) has moved
   void setBodyVelocity(Vec3 v) { body_velocity_ = v; }
   bool isBody(std::size_t cell) const { return !body_.empty() && body_[cell] != 0; }
   // Impulse given to the body during the last step, N s (axisymmetric: per radian), in total and
@@ -170,6 +176,7 @@ class Solver {
   void updateBurn(double dt);
   void updateStress(double dt);
   void checkCell(std::size_t cell, const char* stage) const;
+  mesh::Axis movedAxis(double offset) const;   // the moving axis's faces with the body moved by `offset`
 
   mesh::Grid grid_;
   std::vector<materials::Material> mats_;
@@ -178,6 +185,10 @@ class Solver {
   std::array<std::vector<double>, 3> u_;
   std::vector<unsigned char> body_;     // 1 in the rigid body's cells
   Vec3 body_velocity_{};
+  int mesh_axis_ = -1;                   // the axis the body moves the mesh along (-1: it does not)
+  std::vector<double> faces0_;           // that axis's faces at offset 0
+  int f_lo_ = 0, f_b0_ = 0, f_b1_ = 0, f_hi_ = 0;   // fixed below, body band, fixed above (face indices)
+  double body_offset_ = 0.0;             // m
   Vec3 body_impulse_{};
   std::vector<Vec3> body_impulse_mat_;
   std::vector<double> wlic_;             // per material and cell: share of the interface facing axis d

@@ -85,27 +85,40 @@ Grid::Grid(int dims, Geometry geometry, std::array<Axis, 3> axes) : dims_(dims),
     if (d >= dims) axes_[sd] = Axis::uniform(0.0, 1.0, 1);
     n_[sd] = axes_[sd].cells();
     g_[sd] = ghost(d);
-    const int n = n_[sd], g = g_[sd];
-    const auto& f = axes_[sd].faces();
-    // Ghost faces mirror the widths of the cells next to the boundary.
-    fx_[sd].resize(static_cast<std::size_t>(n + 2 * g + 1));
-    for (int q = 0; q <= n; ++q) fx_[sd][static_cast<std::size_t>(q + g)] = f[static_cast<std::size_t>(q)];
-    for (int q = 1; q <= g; ++q) {
-      const int in_lo = std::min(q, n), in_hi = std::max(n - q, 0);
-      fx_[sd][static_cast<std::size_t>(g - q)] = f[0] - (f[static_cast<std::size_t>(in_lo)] - f[0]);
-      fx_[sd][static_cast<std::size_t>(n + g + q)] = f[static_cast<std::size_t>(n)] + (f[static_cast<std::size_t>(n)] - f[static_cast<std::size_t>(in_hi)]);
-    }
-    xc_[sd].resize(static_cast<std::size_t>(n + 2 * g));
-    dx_[sd].resize(static_cast<std::size_t>(n + 2 * g));
-    for (std::size_t c = 0; c < xc_[sd].size(); ++c) {
-      xc_[sd][c] = 0.5 * (fx_[sd][c] + fx_[sd][c + 1]);
-      dx_[sd][c] = fx_[sd][c + 1] - fx_[sd][c];
-    }
+    axisGeometry(d);
   }
   stride_[2] = 1;
   stride_[1] = n_[2] + 2 * g_[2];
   stride_[0] = stride_[1] * (n_[1] + 2 * g_[1]);
   total_ = static_cast<std::size_t>(stride_[0] * (n_[0] + 2 * g_[0]));
+}
+
+void Grid::axisGeometry(int d) {
+  const auto sd = static_cast<std::size_t>(d);
+  const int n = n_[sd], g = g_[sd];
+  const auto& f = axes_[sd].faces();
+  // Ghost faces mirror the widths of the cells next to the boundary.
+  fx_[sd].resize(static_cast<std::size_t>(n + 2 * g + 1));
+  for (int q = 0; q <= n; ++q) fx_[sd][static_cast<std::size_t>(q + g)] = f[static_cast<std::size_t>(q)];
+  for (int q = 1; q <= g; ++q) {
+    const int in_lo = std::min(q, n), in_hi = std::max(n - q, 0);
+    fx_[sd][static_cast<std::size_t>(g - q)] = f[0] - (f[static_cast<std::size_t>(in_lo)] - f[0]);
+    fx_[sd][static_cast<std::size_t>(n + g + q)] = f[static_cast<std::size_t>(n)] + (f[static_cast<std::size_t>(n)] - f[static_cast<std::size_t>(in_hi)]);
+  }
+  xc_[sd].resize(static_cast<std::size_t>(n + 2 * g));
+  dx_[sd].resize(static_cast<std::size_t>(n + 2 * g));
+  for (std::size_t c = 0; c < xc_[sd].size(); ++c) {
+    xc_[sd][c] = 0.5 * (fx_[sd][c] + fx_[sd][c + 1]);
+    dx_[sd][c] = fx_[sd][c + 1] - fx_[sd][c];
+  }
+}
+
+void Grid::moveFaces(int d, Axis moved) {
+  if (d < 0 || d >= dims_ || moved.cells() != n_[static_cast<std::size_t>(d)])
+    throw InputError("mesh", "a moved axis must keep its number of cells");
+  if (d == 0 && axisymmetric()) throw InputError("mesh", "the radial axis of an axisymmetric mesh does not move");
+  axes_[static_cast<std::size_t>(d)] = std::move(moved);
+  axisGeometry(d);
 }
 
 Index3 Grid::unflatten(std::size_t flat) const {

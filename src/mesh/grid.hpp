@@ -83,8 +83,12 @@ class Grid {
   // Face-normal area of the face on the low side of cell (i,j,k) normal to axis d (per radian).
   double faceArea(int d, int i, int j, int k) const;
   double minWidth() const;
+  // Replaces the faces of axis d (the same number of cells, strictly increasing): the mesh of an
+  // ALE region that moves with a body. Not the radial axis of an axisymmetric mesh.
+  void moveFaces(int d, Axis moved);
 
  private:
+  void axisGeometry(int d);   // faces, centres and widths of axis d, ghosts included
   int dims_;
   Geometry geometry_;
   std::array<Axis, 3> axes_;

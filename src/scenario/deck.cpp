@@ -149,6 +149,9 @@ std::vector<Key> makeKeys() {
              "from the soil surface to the plate's underside; the plate lies inside the domain"),
       number("target", "mass_kg", in<&Deck::target, &TargetSpec::mass_kg>, "kg", {0.0, 1e6}, "the plate's mass; > 0 when motion = free"),
       text("target", "motion", in<&Deck::target, &TargetSpec::motion>, {"free", "fixed"}, "free: moves under the load and gravity"),
+      flag("target", "move_mesh", in<&Deck::target, &TargetSpec::move_mesh>,
+           "a free plate moves through the mesh: the mesh from mesh.core_bottom_m up to the plate stretches with it and the mesh above it "
+           "closes up (docs/run.md); false: its cells stay where they started and its velocity enters the wall condition only"),
       number("target", "friction", in<&Deck::target, &TargetSpec::friction>, "-", {0.0, 2.0}, "Coulomb coefficient between the plate and the flow (soil, gas); the EMI decks use 0.2"),
       number("target", "half_length_m", in<&Deck::target, &TargetSpec::half_length_m>, "m", {0.0, 100.0, true},
              "rectangle and V: half extent along x (the V's ridge), at most mesh.domain_radius_m"),

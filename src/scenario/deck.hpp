@@ -56,6 +56,7 @@ struct TargetSpec {
   double standoff_m = 0.0;            // from the soil surface to the plate's underside
   double mass_kg = 300.0;
   std::string motion = "free";        // free (load and gravity) or fixed
+  bool move_mesh = true;              // free: the plate moves through the mesh (ALE); false: its cells stay put
   double friction = 0.0;              // - Coulomb coefficient, plate against soil and gas
   double half_length_m = 0.4;         // rectangle and V: half extent along x (the V's ridge), m
   double half_width_m = 0.4;          // rectangle and V: half extent along y, m

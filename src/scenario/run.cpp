@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <optional>
 #include <map>
@@ -248,8 +249,8 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   st.plate_z = cs.plate.z_bottom_m;
   st.energy_initial = s.totals().total();
   const double static_run = cs.plate.present ? cs.symmetry * s.bodyLoad()[up] : 0.0;   // N, the load at rest
-  std::vector<std::size_t> gauge_cells;
-  for (const auto& p : deck.output.gauges_m) gauge_cells.push_back(cellAt(g, cs.vertical, p[0], p[1]));
+  // A free target carries the mesh between the uniform core's bottom and the domain's top with it.
+  if (cs.plate.present && deck.target.motion == "free" && deck.target.move_mesh) s.moveMeshWithBody(cs.vertical, deck.mesh.core_bottom_m, deck.mesh.domain_top_m);
   if (!opt.restart.empty()) {
     std::istringstream in(io::readCheckpointFile(opt.restart, checkpointHeader(deck, 0.0), nullptr));
     s.readCheckpoint(in);
@@ -296,16 +297,35 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     }
   };
 
+  // history.csv: each column declared once, with what fills it (SI units in the names)
+  std::vector<double> prof;   // the soil surface at the sample being recorded
+  const std::vector<std::pair<const char*, std::function<double()>>> history_columns{
+      {"t_s", [&] { return s.time(); }},
+      {"impulse_Ns", [&] { return st.impulse; }},
+      {"force_N", [&] { return s.lastDt() > 0.0 ? cs.symmetry * s.lastBodyImpulse()[up] / s.lastDt() - st.static_force : 0.0; }},
+      {"plate_velocity_m_s", [&] { return st.plate_v; }},
+      {"plate_displacement_m", [&] { return st.plate_z - cs.plate.z_bottom_m; }},
+      {"impulse_air_Ns", [&] { return st.impulse_kind[0]; }},
+      {"impulse_products_Ns", [&] { return st.impulse_kind[1]; }},
+      {"impulse_soil_Ns", [&] { return st.impulse_kind[2]; }},
+      {"bubble_height_on_axis_m", [&] { return prof.empty() ? 0.0 : prof[0]; }},
+      {"soil_top_m", [&] {   // the highest soil anywhere: the top of the bubble or the ejecta cloud
+         double top = std::nan("");
+         for (const double z : prof)
+           if (std::isfinite(z) && !(top >= z)) top = z;
+         return top;
+       }},
+      {"dt_s", [&] { return s.lastDt(); }},
+      // where the target's underside is on the mesh (it moves the mesh with it; fixed: where it started)
+      {"target_z_m", [&] { return cs.plate.present ? cs.plate.z_bottom_m + s.bodyOffset() : std::nan(""); }},
+  };
   auto record = [&]() {
-    const double force = s.lastDt() > 0.0 ? cs.symmetry * s.lastBodyImpulse()[up] / s.lastDt() - st.static_force : 0.0;
-    const auto prof = surfaceProfile(cs, deck.output.surface_soil_fraction);
-    double top = std::nan("");   // the highest soil anywhere: the top of the bubble or the ejecta cloud
-    for (const double z : prof)
-      if (std::isfinite(z) && !(top >= z)) top = z;
-    st.history.push_back({s.time(), st.impulse, force, st.plate_v, st.plate_z - cs.plate.z_bottom_m, st.impulse_kind[0], st.impulse_kind[1],
-                          st.impulse_kind[2], prof.empty() ? 0.0 : prof[0], top, s.lastDt()});
-    std::vector<double> gr{s.time()};
-    for (const auto c : gauge_cells) gr.push_back(s.pressure(c));
+    prof = surfaceProfile(cs, deck.output.surface_soil_fraction);
+    std::vector<double> row;
+    for (const auto& [name, value] : history_columns) row.push_back(value());
+    st.history.push_back(std::move(row));
+    std::vector<double> gr{s.time()};   // gauges stay at their points in space while the mesh moves
+    for (const auto& p : deck.output.gauges_m) gr.push_back(s.pressure(cellAt(g, cs.vertical, p[0], p[1])));
     st.gauges.push_back(gr);
   };
   auto writeField = [&]() {
@@ -471,8 +491,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   res.wall_s = wall;
 
   // ---- the run folder
-  res.history_columns = {"t_s", "impulse_Ns", "force_N", "plate_velocity_m_s", "plate_displacement_m", "impulse_air_Ns", "impulse_products_Ns",
-                         "impulse_soil_Ns", "bubble_height_on_axis_m", "soil_top_m", "dt_s"};
+  for (const auto& c : history_columns) res.history_columns.push_back(c.first);
   res.history = st.history;
   for (int i = 0; i < g.cells(0); ++i) res.profile_r_m.push_back(g.centre(0, i));
   res.profile_times_s = st.profile_times;
