@@ -159,7 +159,9 @@ inline double shearModulus(const Material& m, double h0) noexcept {
 }
 inline double yieldStrength(const Material& m, double p) noexcept {
   if (m.strength.kind == StrengthKind::VonMises) return m.strength.yield;
-  const double y = m.sand_slope * (p > 0.0 ? p : 0.0);   // the pseudo-tensor: friction, then the plateau
+  // the pseudo-tensor: friction on the effective stress (the pore air's pressure carries no shear), then the plateau
+  const double pe = m.sand ? p - m.sand->porePressure() : p;
+  const double y = m.sand_slope * (pe > 0.0 ? pe : 0.0);
   return y < m.sand_plateau ? y : m.sand_plateau;
 }
 

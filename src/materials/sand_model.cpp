@@ -116,6 +116,7 @@ SandModel::SandModel(const SandInputs& in) : in_(in), void_((
   requireRange("tension-cutoff", in.tension_cutoff, -1e9, 0.0, "Pa", false, false);
   requireRange("poisson", in.poisson, -1.0, 0.5, "-", true, true);
   requireInRange("plateau-scale", in.plateau.scale, kPlateauScaleRange, "-");
+  requireRange("pore-pressure", in.pore_pressure, 0.0, 1e7, "Pa", false, false);
   requireRange("plateau-residual", in.plateau.residual, 0.0, 1e10, "Pa", false, false);
   requireRange("yield-plateau", in.plateau.fixed, 0.0, 1e10, "Pa", false, false);
   if (in.thermal_gamma != -1.0) requireInRange("thermal-gamma", in.thermal_gamma, kThermalGammaRange, "- (or -1: from the constituents)");
@@ -259,6 +260,7 @@ SandPointEos::SandPointEos(const SandModel& model, int table_size) {
   if (table_size < 16) throw InputError("table-size", "must be at least 16");
   rho0_ = model.state().wet_density;
   p_cut_ = model.inputs().tension_cutoff;
+  pore_p_ = model.inputs().pore_pressure;
   gamma_ = model.thermalGamma();
   x_lock_ = std::max(model.keyNumbers().lockup_strain, 1e-6);   // as SandModel::thermalFactor
   // Invert the loading curve once: sample it densely in pressure, then read the pressure at

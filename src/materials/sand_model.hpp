@@ -50,6 +50,10 @@ struct SandInputs {
   // 0.45, the loosest natural sands about 0.55). The model's bounding-case checks (a pure water
   // column, porosity -> 1) raise it to 1.
   double max_porosity = 0.7;     // -
+  // The pore air's pressure, Pa. The compaction curve is the skeleton's effective stress; the
+  // hydrocode's pressure is that plus the pore pressure, so sand as laid is in equilibrium with
+  // the ambient air beside it (0: the curve alone, as the model's tests and cards use it).
+  double pore_pressure = 0.0;    // Pa
 
   // Users often know the wet (gross) density: rho_d = rho_wet / (1 + w).
   static SandInputs fromWetDensity(double wet_density, double moisture);
@@ -182,6 +186,7 @@ class SandPointEos {
       r.bulk_modulus += p_th + gamma_ * df * ex * rho0_ * e + (r.pressure > 0.0 ? r.pressure : 0.0) * gamma_ * f;
     }
     if (r.pressure < p_cut_) r.pressure = p_cut_;
+    r.pressure += pore_p_;
     return r;
   }
 
@@ -194,7 +199,8 @@ class SandPointEos {
     return g_[i] + (t > 1.0 ? 1.0 : t) * (g_[i + 1] - g_[i]);
   }
   double referenceDensity() const { return rho0_; }
-  double tensionCutoff() const { return p_cut_; }
+  double tensionCutoff() const { return p_cut_ + pore_p_; }   // Pa, the lowest pressure (pore pressure included)
+  double porePressure() const { return pore_p_; }
   double thermalGamma() const { return gamma_; }
   double tableTop() const { return dx_ * last_ + dx_; }
 
@@ -220,6 +226,7 @@ class SandPointEos {
 
   std::vector<double> p_, k_load_, k_unload_, g_;
   double dx_, inv_dx_, rho0_, p_cut_;
+  double pore_p_ = 0.0;   // Pa, SandInputs::pore_pressure
   double gamma_ = 0.0, x_lock_ = 1.0;   // energy term (SandModel::thermalGamma, thermalFactor)
   int last_;
 };

@@ -52,13 +52,17 @@ Case buildCase(const Deck& deck, const FineBlock* block) {
   cs.material_kind = {"air", "products"};
   for (std::size_t i = 0; i < deck.soil.size(); ++i) {
     const auto& s = deck.soil[i];
-    mats.push_back(materials::sand(sandInputsOf(s), s.name));   // parseDeck has checked its inputs
+    auto in = sandInputsOf(s);   // parseDeck has checked its inputs
+    in.pore_pressure = deck.air_pressure_pa;   // the sand as laid is in equilibrium with the air
+    mats.push_back(materials::sand(in, s.name));
     cs.material_kind.push_back("soil");
   }
   const int backfill_mat = deck.backfill.enabled ? static_cast<int>(mats.size()) : -1;
   if (deck.backfill.enabled) {
     const auto& b = deck.backfill;
-    mats.push_back(materials::sand(sandInputsOf(b, deck.soil[0]), "backfill"));
+    auto in = sandInputsOf(b, deck.soil[0]);
+    in.pore_pressure = deck.air_pressure_pa;
+    mats.push_back(materials::sand(in, "backfill"));
     cs.material_kind.push_back("soil");
   }
 

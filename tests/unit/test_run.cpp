@@ -242,6 +242,37 @@ TEST(Deck, OneTableDeclaresEveryKey) {
   EXPECT_EQ(echoed, keys.size());
 }
 
+// A calm case loads the plate with nothing, at every time: the built-in EMI deck with the charge
+// replaced by sand. The sand carries the pore air's ambient pressure (SandInputs::pore_pressure), so
+// the plate resting on it sees the air's pressure above and below. Gravity is off here: the sand's
+// overburden is not initialised yet (the column would settle under its own weight).
+TEST(Case, ACalmEmiCaseLoadsThePlateWithNothing) {
+  const auto deck = scenario::loadDeck((std::filesystem::path(build_info::decks_dir) / "emi-flat-7.toml").string(),
+                                       {"mesh.cell_size_m=0.04", "gravity=false", "early.enabled=false"});
+  auto cs = scenario::buildCase(deck);
+  auto& s = *cs.solver;
+  const double rho_sand = s.materials()[2].referenceDensity();
+  auto& products = s.fieldForSetup(1);
+  auto& soil = s.fieldForSetup(2);
+  for (std::size_t c = 0; c < products.alpha.size(); ++c) {
+    if (products.alpha[c] <= 0.0) continue;
+    soil.rho[c] = rho_sand;   // the sand as laid, uniform
+    soil.e[c] = 0.0;
+    soil.alpha[c] += products.alpha[c];
+    products.clearCell(c);
+  }
+  const int up = cs.vertical;
+  EXPECT_LT(std::abs(cs.symmetry * s.bodyLoad()[static_cast<std::size_t>(up)]), 1.0);   // N: no load at rest to take off
+  double impulse = 0.0, peak = 0.0;
+  while (s.time() < 0.01) {
+    s.step(std::min(s.stableTimeStep(), 0.01 - s.time() + 1e-15));
+    const double iz = cs.symmetry * s.lastBodyImpulse()[static_cast<std::size_t>(up)];
+    impulse += iz;
+    peak = std::max(peak, std::abs(impulse));
+  }
+  EXPECT_LT(peak, 1.0) << "N s at worst over 10 ms; at the end " << impulse;
+}
+
 TEST(Case, VPlateInThreeDimensionsSitsOnItsWingsAndTakesLoad) {
   const std::string text = R"(
 geometry = "3d-quarter"
