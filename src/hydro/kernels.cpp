@@ -118,8 +118,12 @@ void solveFaces(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
         const bool body_right = P.solid[R] != 0;
         if (!((body_right && f == g + n) || (!body_right && f == g))) {
           const std::size_t fluid = body_right ? L : R;
-          const double imp = (body_right ? 1.0 : -1.0) * ps * P.area[sf] * dt;
-          ledger.target_work += imp * wall_u;
+          const double sign = body_right ? 1.0 : -1.0;
+          ledger.target_work += sign * ps * P.area[sf] * dt * wall_u;
+          // by material against the ambient (reference) pressure: the air's share is then what the
+          // blast adds to the air's push, not the atmosphere on the plate's top; over the closed
+          // body the reference sums to zero, so the total is the load itself
+          const double imp = sign * (ps - S.load_reference) * P.area[sf] * dt;
           for (int k = 0; k < P.M; ++k) ledger.impulse_on_body[k][S.d] += imp * P.a[P.at(k, static_cast<int>(fluid))];
         }
       }

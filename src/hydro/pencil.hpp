@@ -57,6 +57,7 @@ struct SweepSetup {
   double gravity = 0.0;        // m/s2 along d
   std::array<double, 3> wall_velocity{};   // m/s, the body's
   double friction = 0.0;       // - Coulomb coefficient at the body's faces
+  double load_reference = 0.0; // Pa: the body's load by material is booked as (p* - this) A dt
   const double* xc = nullptr;  // [N]
   const double* width = nullptr;   // [N]
   const double* xf = nullptr;  // [N + 1]
@@ -70,7 +71,8 @@ struct PencilLedger {
   double target_work = 0.0;    // done by the flow on the moving body
   double gravity_work = 0.0;   // done by gravity on the flow
   double impulse_on_body[kMaxMaterials][3] = {};   // N s by material beside the face: the normal load
-                                                   // (along d) and the friction (transverse)
+                                                   // (along d, against the reference pressure, which
+                                                   // sums to zero over a closed body) and the friction
 };
 
 // van Leer-limited slopes of the normal velocity and normal stress (first order beside a body).

@@ -707,6 +707,7 @@ void Solver::sweep(int d, double dt) {
   S.gravity = opt_.gravity[static_cast<std::size_t>(d)];
   S.wall_velocity = body_velocity_;
   S.friction = body_.empty() ? 0.0 : opt_.body_friction;
+  S.load_reference = opt_.load_reference_pressure;
   // Geometry along the sweep axis is the same for every pencil.
   const int Nl = n + 2 * g;
   std::vector<double> line_xc(static_cast<std::size_t>(Nl)), line_w(static_cast<std::size_t>(Nl)), line_rf(static_cast<std::size_t>(Nl) + 1),

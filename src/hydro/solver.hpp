@@ -55,6 +55,7 @@ struct SolverOptions {
   double min_dt = 1e-14;                 // s: below this the step has collapsed and the run stops
   double initial_dt_fraction = 0.1;      // first step = this fraction of the CFL step
   double body_friction = 0.0;            // - Coulomb coefficient between the flow and the body
+  double load_reference_pressure = 0.0;  // Pa: the body's load by material is booked against it (ambient)
 };
 
 // One material's fields over the block (ghosts included), flat arrays.

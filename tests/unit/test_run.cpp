@@ -23,6 +23,7 @@ using mesh::BoundaryKind;
 TEST(Coupling, FlowAndBodyExchangeMomentumExactly) {
   hydro::SolverOptions o;
   for (auto& b : o.boundary) b = {BoundaryKind::Periodic, BoundaryKind::Periodic};   // no walls: only the body takes momentum
+  o.load_reference_pressure = 1e5;   // booked against a reference pressure, which sums to zero over the closed body
   hydro::Solver s(mesh::Grid(2, mesh::Geometry::Cartesian, {Axis::uniform(0.0, 1.0, 40), Axis::uniform(0.0, 1.0, 40), Axis{}}),
                   {materials::air()}, o);
   s.paint(0, [](const Vec3&) { return true; }, 1.225, 2e5);
@@ -242,13 +243,14 @@ TEST(Deck, OneTableDeclaresEveryKey) {
   EXPECT_EQ(echoed, keys.size());
 }
 
-// A calm case loads the plate with nothing, at every time: the built-in EMI deck with the charge
-// replaced by sand. The sand carries the pore air's ambient pressure (SandInputs::pore_pressure), so
-// the plate resting on it sees the air's pressure above and below. Gravity is off here: the sand's
-// overburden is not initialised yet (the column would settle under its own weight).
+// A calm case loads the plate with nothing, at every time: the built-in EMI deck (the plate 0.10 m
+// over the sand, gravity on) with the charge replaced by sand. The sand carries the pore air's
+// ambient pressure (SandInputs::pore_pressure), so it is in equilibrium with the air; its
+// overburden is not initialised (the column settles a little under its own weight, far below the
+// plate). The plate is held still here (the solver alone, without the run's equation of motion).
 TEST(Case, ACalmEmiCaseLoadsThePlateWithNothing) {
   const auto deck = scenario::loadDeck((std::filesystem::path(build_info::decks_dir) / "emi-flat-7.toml").string(),
-                                       {"mesh.cell_size_m=0.04", "gravity=false", "early.enabled=false"});
+                                       {"mesh.cell_size_m=0.04", "early.enabled=false"});
   auto cs = scenario::buildCase(deck);
   auto& s = *cs.solver;
   const double rho_sand = s.materials()[2].referenceDensity();
