@@ -258,7 +258,8 @@ static double cellSignalSpeed2(const std::vector<materials::Material>& mats, con
 double Solver::stableTimeStep() const {
   double dt = std::numeric_limits<double>::infinity();
   const int n0 = grid_.cells(0), n1 = grid_.cells(1), n2 = grid_.cells(2), dims = grid_.dims();
-#pragma omp parallel for collapse(2) reduction(min : dt) schedule(static)
+  const bool team = useThreads();
+#pragma omp parallel for collapse(2) reduction(min : dt) schedule(static) if (team)
   for (int i = 0; i < n0; ++i)
     for (int j = 0; j < n1; ++j)
       for (int k = 0; k < n2; ++k) {
@@ -363,7 +364,8 @@ void Solver::interfaceWeights(int d) {
   const int dims = grid_.dims();
   const int n0 = grid_.cells(0), n1 = grid_.cells(1), n2 = grid_.cells(2);
   const std::size_t total = grid_.totalCells();
-#pragma omp parallel for collapse(2) schedule(static)
+  const bool team = useThreads();
+#pragma omp parallel for collapse(2) schedule(static) if (team)
   for (int i = 0; i < n0; ++i)
     for (int j = 0; j < n1; ++j)
       for (int k = 0; k < n2; ++k) {
@@ -401,7 +403,8 @@ void Solver::updateBurn(double dt) {
     const auto& j = mats_[k].jwl;
     auto& f = fields_[k];
     const int n0 = grid_.cells(0), n1 = grid_.cells(1), n2 = grid_.cells(2);
-#pragma omp parallel for schedule(static)
+    const bool team = useThreads();
+#pragma omp parallel for schedule(static) if (team)
     for (int i = 0; i < n0; ++i)
       for (int jj = 0; jj < n1; ++jj)
         for (int kk = 0; kk < n2; ++kk) {
@@ -423,7 +426,8 @@ void Solver::updateStress(double dt) {
   const int dims = grid_.dims();
   const bool axi = grid_.axisymmetric();
   const int n0 = grid_.cells(0), n1 = grid_.cells(1), n2 = grid_.cells(2);
-#pragma omp parallel for collapse(2) schedule(static)
+  const bool team = useThreads();
+#pragma omp parallel for collapse(2) schedule(static) if (team)
   for (int i = 0; i < n0; ++i)
     for (int j = 0; j < n1; ++j)
       for (int k = 0; k < n2; ++k) {
@@ -663,10 +667,13 @@ void Solver::sweep(int d, double dt) {
   // so the result does not depend on the number of threads.
   std::vector<PencilLedger> ledgers(static_cast<std::size_t>(n1) * static_cast<std::size_t>(n2));
   std::size_t bad_cell = std::numeric_limits<std::size_t>::max();
+  const bool team = useThreads();
 
-#pragma omp parallel
+#pragma omp parallel if (team)
   {
-    Pencil P;
+    // scratch kept by each thread from sweep to sweep: allocating it every sweep cost a 1D run
+    // more time in the allocator (growing and trimming the heap) than in the kernels
+    thread_local Pencil P;
     P.resize(n, M);
     std::size_t my_bad = std::numeric_limits<std::size_t>::max();
 #pragma omp for collapse(2) schedule(static)
