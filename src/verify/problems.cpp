@@ -217,7 +217,7 @@ double shockRadius(const Solver& s, double dr, double rmax, double level, std::v
 }
 
 // Sedov's point blast, gamma = 1.4, rho = 1, shock at R = 1 at t = 1: cylindrical in a 2D plane
-// quarter, spherical in a 2D axisymmetric half plane and a 3D octant.
+// quarter, spherical in a 2D axisymmetric half plane, a 3D octant and on a 1D spherical mesh.
 void sedov(const std::string& variant, const std::vector<int>& levels, Report& rep) {
   const std::size_t first = rep.rows.size();
   const std::string name = "sedov-" + variant;
@@ -233,6 +233,10 @@ void sedov(const std::string& variant, const std::vector<int>& levels, Report& r
       energy = sedovAlpha(2) / 4.0;
     } else if (variant == "axi") {
       geo = Geometry::Axisymmetric;
+      energy = sedovAlpha(3) / (4.0 * M_PI);
+    } else if (variant == "sph") {   // per steradian
+      dims = 1;
+      geo = Geometry::Spherical;
       energy = sedovAlpha(3) / (4.0 * M_PI);
     } else {
       dims = 3;
@@ -254,9 +258,9 @@ void sedov(const std::string& variant, const std::vector<int>& levels, Report& r
     std::vector<std::size_t> hot;
     const int reach = static_cast<int>(r_dep / h) + 2;
     for (int i = 0; i < reach; ++i)
-      for (int j = 0; j < reach; ++j)
+      for (int j = 0; j < (dims >= 2 ? reach : 1); ++j)
         for (int k = 0; k < (dims == 3 ? reach : 1); ++k) {
-          const double x = g.centre(0, i), y = g.centre(1, j), z = dims == 3 ? g.centre(2, k) : 0.0;
+          const double x = g.centre(0, i), y = dims >= 2 ? g.centre(1, j) : 0.0, z = dims == 3 ? g.centre(2, k) : 0.0;
           if (x * x + y * y + z * z > r_dep * r_dep) continue;
           vol += g.cellVolume(i, j, k);
           hot.push_back(g.index(i, j, k));
@@ -278,7 +282,7 @@ void sedov(const std::string& variant, const std::vector<int>& levels, Report& r
     for (const double x : prof.x) prof.exact.push_back(x < r_exact ? kNaN : 1.0);
     rep.profiles.push_back(std::move(prof));
     const bool closed = true;   // the blast has not reached the outer boundary by t = 1
-    rep.rows.push_back({name, dims == 3 ? "3D" : (geo == Geometry::Axisymmetric ? "2D axisymmetric" : "2D plane"),
+    rep.rows.push_back({name, dims == 3 ? "3D" : (geo == Geometry::Axisymmetric ? "2D axisymmetric" : (dims == 1 ? "1D spherical" : "2D plane")),
                         "|R_shock - R_exact| / R_exact", n, g.interiorCells(), std::abs(R - r_exact) / r_exact, 0.0,
                         drift(before, after, closed), seconds(t0), "", true, s.stats().steps});
   }
@@ -781,10 +785,11 @@ Report runVerification(const Options& opt) {
     smoothAdvection(2, q ? std::vector<int>{32, 64, 128} : std::vector<int>{32, 64, 128, 256}, rep);
   }
   if (wanted("sedov")) {
-    say("Sedov blast: cylindrical (2D plane), spherical (2D axisymmetric, 3D)");
+    say("Sedov blast: cylindrical (2D plane), spherical (2D axisymmetric, 3D, 1D spherical)");
     sedov("cyl", q ? std::vector<int>{60, 120, 240} : std::vector<int>{60, 120, 240, 480}, rep);
     sedov("axi", q ? std::vector<int>{60, 120, 240} : std::vector<int>{60, 120, 240, 480}, rep);
     sedov("3d", q ? std::vector<int>{24, 48} : std::vector<int>{24, 48, 96}, rep);
+    sedov("sph", q ? std::vector<int>{60, 120, 240} : std::vector<int>{60, 120, 240, 480}, rep);
   }
   if (wanted("noh")) {
     say("Noh implosion (cylindrical)");
