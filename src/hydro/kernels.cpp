@@ -134,7 +134,12 @@ void solveFaces(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     P.ustar[sf] = us;
     P.pstar[sf] = (zr * pL + zl * pR + zl * zr * (uL - uR)) / zs;
     const double disp = us * dt, rf = S.xf[sf];
-    P.dvol[sf] = P.radial ? P.ring_width * 0.5 * ((rf + disp) * std::abs(rf + disp) - rf * std::abs(rf)) : P.area[sf] * disp;
+    if (P.spherical) {
+      const double r1 = rf + disp;
+      P.dvol[sf] = (r1 * r1 * r1 - rf * rf * rf) / 3.0;
+    } else {
+      P.dvol[sf] = P.radial ? P.ring_width * 0.5 * ((rf + disp) * std::abs(rf + disp) - rf * std::abs(rf)) : P.area[sf] * disp;
+    }
   }
 }
 
@@ -325,7 +330,8 @@ void lagrangeUpdate(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     double ke0 = 0.0;
     for (std::size_t q = 0; q < 3; ++q) ke0 += 0.5 * m * P.u[q][si] * P.u[q][si];
     double E = ie + ke0 - dt * (Ar * P.pstar[fr] * P.ustar[fr] - Al * P.pstar[si] * P.ustar[si]);
-    // normal momentum: faces, hoop stress (axisymmetric r), gravity
+    // normal momentum: faces, hoop stress (axisymmetric or spherical r: the areas' growth, dA, times
+    // the mean hoop stress), gravity
     double mn = m * un[si] - dt * (Ar * P.pstar[fr] - Al * P.pstar[si]) + dt * (Ar - Al) * P.hoop[si] * (P.radial ? 1.0 : 0.0);
     const double mn_g = mn + dt * m * grav;
     const double w_grav = dt * grav * 0.5 * (mn + mn_g);

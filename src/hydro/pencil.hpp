@@ -20,7 +20,8 @@ inline constexpr int kMaxMaterials = 8;
 // [k * (N + 1) + f] (faces); face f lies between cells f - 1 and f.
 struct Pencil {
   int n = 0, N = 0, M = 0;   // interior cells, cells with ghosts, materials
-  bool radial = false;       // axisymmetric r-sweep: swept volumes are annuli
+  bool radial = false;       // axisymmetric or spherical r-sweep: swept volumes are annuli or shells
+  bool spherical = false;    // spherical r-sweep: volumes r^3 / 3 per steradian
   double ring_width = 0.0;   // axisymmetric r-sweep: the cell's z width
   std::vector<double> vol, area;
   std::array<std::vector<double>, 3> u;   // velocity components (global axes)

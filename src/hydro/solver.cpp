@@ -32,7 +32,7 @@ Solver::Solver(mesh::Grid grid, std::vector<materials::Material> materials, Solv
     any_strength_ = any_strength_ || m.hasStrength();
   }
   if (!(opt_.cfl > 0.0 && opt_.cfl <= 0.9)) throw InputError("cfl", fmt::format("{:g} is out of range; valid (0, 0.9]", opt_.cfl));
-  if (grid_.axisymmetric() && opt_.boundary[0][0] != BoundaryKind::Reflect && grid_.axis(0).lo() == 0.0)
+  if (grid_.curvilinear() && opt_.boundary[0][0] != BoundaryKind::Reflect && grid_.axis(0).lo() == 0.0)
     throw InputError("boundary.r_min", "the axis r = 0 must be a symmetry (reflect) boundary");
   const std::size_t total = grid_.totalCells();
   fields_.resize(mats_.size());
@@ -88,7 +88,7 @@ void Solver::paint(int mat, const std::function<bool(const Vec3&)>& inside, doub
               const Vec3 x{grid_.face(0, i) + (a + 0.5) / s1 * grid_.width(0, i),
                            dims >= 2 ? grid_.face(1, j) + (b + 0.5) / s2 * grid_.width(1, j) : 0.0,
                            dims >= 3 ? grid_.face(2, k) + (c + 0.5) / s3 * grid_.width(2, k) : 0.0};
-              const double wgt = grid_.axisymmetric() ? x[0] : 1.0;
+              const double wgt = grid_.axisymmetric() ? x[0] : (grid_.spherical() ? x[0] * x[0] : 1.0);
               all += wgt;
               if (inside(x)) in += wgt;
             }
@@ -115,7 +115,7 @@ void Solver::setBody(const std::function<bool(const Vec3&)>& inside) {
   for (std::size_t c = 0; c < body_.size(); ++c) {
     const auto ix = grid_.unflatten(c);
     Vec3 x{grid_.centre(0, ix.i), grid_.centre(1, ix.j), grid_.centre(2, ix.k)};
-    if (grid_.axisymmetric()) x[0] = std::abs(x[0]);   // the axis ghosts mirror the body
+    if (grid_.curvilinear()) x[0] = std::abs(x[0]);   // the axis (centre) ghosts mirror the body
     body_[c] = inside(x) ? 1 : 0;
   }
   body_impulse_mat_.assign(mats_.size(), Vec3{});
@@ -319,7 +319,8 @@ static double cellSignalSpeed2(const std::vector<materials::Material>& mats, con
 double Solver::stableTimeStep() const {
   double dt = std::numeric_limits<double>::infinity();
   const int n0 = grid_.cells(0), n1 = grid_.cells(1), n2 = grid_.cells(2), dims = grid_.dims();
-#pragma omp parallel for collapse(2) reduction(min : dt) schedule(static)
+  const bool team = useThreads();
+#pragma omp parallel for collapse(2) reduction(min : dt) schedule(static) if (team)
   for (int i = 0; i < n0; ++i)
     for (int j = 0; j < n1; ++j)
       for (int k = 0; k < n2; ++k) {
@@ -424,7 +425,8 @@ void Solver::interfaceWeights(int d) {
   const int dims = grid_.dims();
   const int n0 = grid_.cells(0), n1 = grid_.cells(1), n2 = grid_.cells(2);
   const std::size_t total = grid_.totalCells();
-#pragma omp parallel for collapse(2) schedule(static)
+  const bool team = useThreads();
+#pragma omp parallel for collapse(2) schedule(static) if (team)
   for (int i = 0; i < n0; ++i)
     for (int j = 0; j < n1; ++j)
       for (int k = 0; k < n2; ++k) {
@@ -462,7 +464,8 @@ void Solver::updateBurn(double dt) {
     const auto& j = mats_[k].jwl;
     auto& f = fields_[k];
     const int n0 = grid_.cells(0), n1 = grid_.cells(1), n2 = grid_.cells(2);
-#pragma omp parallel for schedule(static)
+    const bool team = useThreads();
+#pragma omp parallel for schedule(static) if (team)
     for (int i = 0; i < n0; ++i)
       for (int jj = 0; jj < n1; ++jj)
         for (int kk = 0; kk < n2; ++kk) {
@@ -482,9 +485,10 @@ void Solver::updateStress(double dt) {
   if (!any_strength_) return;
   for (int d = 0; d < grid_.dims(); ++d) fillGhosts(d);
   const int dims = grid_.dims();
-  const bool axi = grid_.axisymmetric();
+  const bool axi = grid_.axisymmetric(), sph = grid_.spherical();
   const int n0 = grid_.cells(0), n1 = grid_.cells(1), n2 = grid_.cells(2);
-#pragma omp parallel for collapse(2) schedule(static)
+  const bool team = useThreads();
+#pragma omp parallel for collapse(2) schedule(static) if (team)
   for (int i = 0; i < n0; ++i)
     for (int j = 0; j < n1; ++j)
       for (int k = 0; k < n2; ++k) {
@@ -503,6 +507,7 @@ void Solver::updateStress(double dt) {
           for (std::size_t a = 0; a < 3; ++a) L[a][b] = (u_[a][ch] - u_[a][cl]) / dx;
         }
         if (axi) L[2][2] = u_[0][c] / grid_.centre(0, i);   // hoop strain rate u_r / r
+        if (sph) L[1][1] = L[2][2] = u_[0][c] / grid_.centre(0, i);   // both hoop directions
         double D[3][3], W[3][3];
         for (int a = 0; a < 3; ++a)
           for (int b = 0; b < 3; ++b) {
@@ -548,7 +553,7 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
   const std::size_t total_cells = grid_.totalCells();
   const int t1 = S.t1, t2 = S.t2;
   const int s_dt1 = stressIndex(d, t1), s_dt2 = stressIndex(d, t2);
-  const bool radial = grid_.axisymmetric() && d == 0;
+  const bool radial = grid_.curvilinear() && d == 0, spherical = grid_.spherical();
   // geometry: areas and volumes from the transverse measure of the pencil
   double trans = grid_.width(t1, a) * grid_.width(t2, b);
   if (grid_.axisymmetric()) {
@@ -561,7 +566,14 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
   }
   for (int i = 0; i <= N; ++i) {
     const std::size_t si = static_cast<std::size_t>(i);
-    if (radial) {
+    if (spherical) {   // per steradian: 1D, so no transverse measure
+      const double rl = S.xf[si];
+      P.area[si] = rl * rl;
+      if (i < N) {
+        const double rr = S.xf[si + 1];
+        P.vol[si] = (rr * rr * rr - rl * rl * rl) / 3.0;
+      }
+    } else if (radial) {
       const double rl = S.xf[si];
       P.area[si] = std::abs(rl) * trans;
       if (i < N) {
@@ -575,12 +587,13 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
   }
   P.ring_width = radial ? trans : 0.0;
   P.radial = radial;
+  P.spherical = spherical;
   // state and equation of state
   for (int i = 0; i < N; ++i) {
     const std::size_t c = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(base) + i * stride), si = static_cast<std::size_t>(i);
     for (std::size_t q = 0; q < 3; ++q) P.u[q][si] = u_[q][c];
     P.solid[si] = body_.empty() ? 0 : body_[c];
-    double rho = 0.0, p = 0.0, kv = 0.0, snn = 0.0, stt = 0.0, sh1 = 0.0, sh2 = 0.0, pmin = 0.0;
+    double rho = 0.0, p = 0.0, kv = 0.0, snn = 0.0, stt = 0.0, s11 = 0.0, sh1 = 0.0, sh2 = 0.0, pmin = 0.0;
     for (int k = 0; k < M; ++k) {
       const auto& F = fields_[static_cast<std::size_t>(k)];
       const auto& mat = mats_[static_cast<std::size_t>(k)];
@@ -608,6 +621,7 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
         for (std::size_t q = 0; q < 6; ++q) P.s[q][ki] = F.s[q][c];
         snn += al * F.s[static_cast<std::size_t>(d)][c];
         stt += al * F.s[2][c];
+        s11 += al * F.s[1][c];
         sh1 += al * F.s[static_cast<std::size_t>(s_dt1)][c];
         sh2 += al * F.s[static_cast<std::size_t>(s_dt2)][c];
       } else {
@@ -616,7 +630,7 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
     }
     P.rho[si] = rho;
     P.P[si] = p - snn;
-    P.hoop[si] = p - stt;
+    P.hoop[si] = p - (spherical ? 0.5 * (stt + s11) : stt);
     P.K[si] = kv;
     P.pmin[si] = pmin;
     P.Z[si] = std::sqrt(std::max(rho * kv, 1e-30));
@@ -736,10 +750,13 @@ void Solver::sweep(int d, double dt) {
   // so the result does not depend on the number of threads.
   std::vector<PencilLedger> ledgers(static_cast<std::size_t>(n1) * static_cast<std::size_t>(n2));
   std::size_t bad_cell = std::numeric_limits<std::size_t>::max();
+  const bool team = useThreads();
 
-#pragma omp parallel
+#pragma omp parallel if (team)
   {
-    Pencil P;
+    // scratch kept by each thread from sweep to sweep: allocating it every sweep cost a 1D run
+    // more time in the allocator (growing and trimming the heap) than in the kernels
+    thread_local Pencil P;
     P.resize(n, M);
     std::size_t my_bad = std::numeric_limits<std::size_t>::max();
 #pragma omp for collapse(2) schedule(static)

@@ -178,6 +178,9 @@ class Solver {
   void updateStress(double dt);
   void checkCell(std::size_t cell, const char* stage) const;
   mesh::Axis movedAxis(double offset) const;   // the moving axis's faces with the body moved by `offset`
+  // A 1D mesh is one pencil: a thread team would only wait at its barriers (which, on cores
+  // shared with other processes, cost more than the line's work), so it runs on one thread.
+  bool useThreads() const { return grid_.dims() > 1; }
 
   mesh::Grid grid_;
   std::vector<materials::Material> mats_;

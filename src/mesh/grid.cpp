@@ -80,6 +80,10 @@ Grid::Grid(int dims, Geometry geometry, std::array<Axis, 3> axes) : dims_(dims),
     if (dims != 2) throw InputError("mesh.geometry", "axisymmetric meshes are 2D (r, z)");
     if (axes_[0].lo() < 0.0) throw InputError("mesh.r", "the radial axis must start at r >= 0 m");
   }
+  if (geometry == Geometry::Spherical) {
+    if (dims != 1) throw InputError("mesh.geometry", "spherical meshes are 1D (r)");
+    if (axes_[0].lo() < 0.0) throw InputError("mesh.r", "the radial axis must start at r >= 0 m");
+  }
   for (int d = 0; d < 3; ++d) {
     const auto sd = static_cast<std::size_t>(d);
     if (d >= dims) axes_[sd] = Axis::uniform(0.0, 1.0, 1);
@@ -136,6 +140,10 @@ bool Grid::isInterior(std::size_t flat) const {
 }
 
 double Grid::cellVolume(int i, int j, int k) const {
+  if (spherical()) {   // r^3 is odd: a ghost cell mirrored through r = 0 has its mirror's volume
+    const double rl = face(0, i), rr = face(0, i + 1);
+    return (rr * rr * rr - rl * rl * rl) / 3.0;
+  }
   if (axisymmetric()) {
     const double rl = face(0, i), rr = face(0, i + 1);
     return 0.5 * std::abs(rr * std::abs(rr) - rl * std::abs(rl)) * width(1, j);
@@ -144,6 +152,7 @@ double Grid::cellVolume(int i, int j, int k) const {
 }
 
 double Grid::faceArea(int d, int i, int j, int k) const {
+  if (spherical()) return d == 0 ? face(0, i) * face(0, i) : 0.0;
   if (axisymmetric()) {
     if (d == 0) return std::abs(face(0, i)) * width(1, j);
     if (d == 1) return 0.5 * std::abs(face(0, i + 1) * std::abs(face(0, i + 1)) - face(0, i) * std::abs(face(0, i)));

@@ -1,6 +1,6 @@
 #pragma once
-// Structured meshes for the Eulerian solver: 1D, 2D plane, 2D axisymmetric (r, z) and 3D
-// Cartesian from one dimension-generic description. Each axis is a list of face coordinates (a
+// Structured meshes for the Eulerian solver: 1D, 1D spherical (r), 2D plane, 2D axisymmetric
+// (r, z) and 3D Cartesian from one dimension-generic description. Each axis is a list of face coordinates (a
 // uniform core with geometric grading outward is one way to make it); cells carry `kGhost` ghost
 // layers on every side so that the same kernels run on a whole domain, an MPI rank's block or a
 // GPU tile. SI units: m.
@@ -14,7 +14,9 @@ namespace ejecta::mesh {
 
 inline constexpr int kGhost = 3;   // the split Lagrange-remap sweep reads 3 cells past a face
 
-enum class Geometry { Cartesian, Axisymmetric };   // axisymmetric: axis 0 is r, axis 1 is z
+// Axisymmetric: axis 0 is r, axis 1 is z, measures per radian. Spherical: 1D, axis 0 is r,
+// measures per steradian (a free-air blast resolved at a cost of cells ~ 1/h, not 1/h^2).
+enum class Geometry { Cartesian, Axisymmetric, Spherical };
 
 // A rigid free-slip wall and a symmetry plane are the same condition in an inviscid Eulerian
 // code: Reflect. (A moving piston is posed in the piston's frame: the material flows in.)
@@ -58,6 +60,8 @@ class Grid {
   int dims() const { return dims_; }
   Geometry geometry() const { return geometry_; }
   bool axisymmetric() const { return geometry_ == Geometry::Axisymmetric; }
+  bool spherical() const { return geometry_ == Geometry::Spherical; }
+  bool curvilinear() const { return geometry_ != Geometry::Cartesian; }   // axis 0 is a radius
   const Axis& axis(int d) const { return axes_[static_cast<std::size_t>(d)]; }
   int cells(int d) const { return n_[static_cast<std::size_t>(d)]; }
   int ghost(int d) const { return d < dims_ ? kGhost : 0; }
@@ -79,8 +83,8 @@ class Grid {
   double centre(int d, int c) const { return xc_[static_cast<std::size_t>(d)][static_cast<std::size_t>(c + ghost(d))]; }
   double width(int d, int c) const { return dx_[static_cast<std::size_t>(d)][static_cast<std::size_t>(c + ghost(d))]; }
 
-  double cellVolume(int i, int j, int k) const;   // m3 (axisymmetric: per radian)
-  // Face-normal area of the face on the low side of cell (i,j,k) normal to axis d (per radian).
+  double cellVolume(int i, int j, int k) const;   // m3 (axisymmetric: per radian; spherical: per steradian)
+  // Face-normal area of the face on the low side of cell (i,j,k) normal to axis d (per radian or steradian).
   double faceArea(int d, int i, int j, int k) const;
   double minWidth() const;
   // Replaces the faces of axis d (the same number of cells, strictly increasing): the mesh of an

@@ -106,6 +106,16 @@ json check(const std::string& name, double value, const std::string& unit, const
 
 json table(std::vector<std::string> columns) { return json{{"columns", columns}, {"rows", json::array()}}; }
 
+// Limits of the judged checks, %. The published mesh study's claim, for converged cells: the
+// finest three sizes within 2% of their mean. The quick level's cells (12-25 mm) are coarser than
+// any the study used: 3% there (revision 3's quick run spread 0.85%, revision 4's full run 1.3%).
+constexpr double kSpreadFullPct = 2.0, kSpreadQuickPct = 3.0;
+constexpr double kTrendFloorPct = 1.0;
+// The published field-test finding: a looser, drier backfilled cover barely changes the impulse.
+// "Barely" is taken as under half of what the bed's own moisture does (7% -> 22%: +20% at
+// revision 4's full level), i.e. 10%; measured: 3.6% (revision 2, full), 4.4% (revision 3, quick).
+constexpr double kFieldChangePct = 10.0;
+
 }  // namespace
 
 const std::vector<std::string>& validationStudies() {
@@ -244,11 +254,29 @@ json validationReport(const ValidationPlan& plan, const std::map<std::string, js
       sec["table"] = t;
       std::vector<std::string> fine;
       for (std::size_t i = k0; i < h.size(); ++i) fine.push_back(mm(h[i]));
-      // the claim is about converged cells: at the quick level's coarse cells it is shown, not judged
-      const auto c = check(fmt::format("mesh: impulse at {} mm within 2% of their mean", fmt::join(fine, ", ")), spread, "%",
-                           full ? "<= 2%" : "<= 2% (judged at the full level)", full ? json(spread <= 2.0) : json(nullptr));
+      // The published claim is about converged cells (2%); the quick level's coarse cells are
+      // judged by a wider band, kSpreadQuickPct, and by the trend below.
+      const double spread_limit = full ? kSpreadFullPct : kSpreadQuickPct;
+      const auto c = check(fmt::format("mesh: impulse at {} mm within {:g}% of their mean", fmt::join(fine, ", "), spread_limit), spread, "%",
+                           full ? fmt::format("<= {:g}%", spread_limit) : fmt::format("<= {:g}% (quick level; {:g}% at the full level)", spread_limit, kSpreadFullPct),
+                           spread <= spread_limit);
       sec["checks"] = json::array({c});
       checks.push_back(c);
+      // A converging scheme changes less with each refinement: at the quick level (coarse cells,
+      // before the changes reach the noise of the mean) the finest step may not change the
+      // impulse more than the coarsest did, or than kTrendFloorPct, half the full level's band.
+      // At the full level's cells the changes are at that noise, and the spread above judges them.
+      if (h.size() >= 3) {
+        const std::size_t n = h.size();
+        const double first_step = 100.0 * std::abs(imp[1] - imp[0]) / imp[1], last_step = 100.0 * std::abs(imp[n - 1] - imp[n - 2]) / imp[n - 1];
+        const double allowed = std::max(first_step, kTrendFloorPct);
+        const auto ct = check(fmt::format("mesh: the impulse's change from {} to {} mm no larger than from {} to {} mm ({:.2f}%) or {:g}%", mm(h[n - 2]),
+                                          mm(h[n - 1]), mm(h[0]), mm(h[1]), first_step, kTrendFloorPct),
+                              last_step, "%", full ? "informative at the full level (the spread judges it)" : fmt::format("<= {:.2f}%", allowed),
+                              full ? json(nullptr) : json(last_step <= allowed));
+        sec["checks"].push_back(ct);
+        checks.push_back(ct);
+      }
       // Each material's share must converge too: a total that holds still while the products' and
       // the soil's parts move in opposite directions is two errors cancelling.
       std::vector<double> part_spread;
@@ -328,7 +356,8 @@ json validationReport(const ValidationPlan& plan, const std::map<std::string, js
         plot["groups"].push_back(g);
       }
       sec["table"] = t;
-      const auto c = check("field: largest change of impulse from a backfilled cover", worst, "%", "informative (published: small)", nullptr);
+      const auto c = check("field: largest change of impulse from a backfilled cover", worst, "%", fmt::format("<= {:g}% (published: small)", kFieldChangePct),
+                           worst <= kFieldChangePct);
       sec["checks"] = json::array({c});
       checks.push_back(c);
       sec["paragraphs"] = json::array({fmt::format(

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "core/error.hpp"
+#include "hydro/rezone.hpp"
 #include "hydro/solver.hpp"
 #include "verify/exact.hpp"
 
@@ -234,6 +235,10 @@ void sedov(const std::string& variant, const std::vector<int>& levels, Report& r
     } else if (variant == "axi") {
       geo = Geometry::Axisymmetric;
       energy = sedovAlpha(3) / (4.0 * M_PI);
+    } else if (variant == "sph") {   // per steradian
+      dims = 1;
+      geo = Geometry::Spherical;
+      energy = sedovAlpha(3) / (4.0 * M_PI);
     } else {
       dims = 3;
       energy = sedovAlpha(3) / 8.0;
@@ -254,9 +259,9 @@ void sedov(const std::string& variant, const std::vector<int>& levels, Report& r
     std::vector<std::size_t> hot;
     const int reach = static_cast<int>(r_dep / h) + 2;
     for (int i = 0; i < reach; ++i)
-      for (int j = 0; j < reach; ++j)
+      for (int j = 0; j < (dims >= 2 ? reach : 1); ++j)
         for (int k = 0; k < (dims == 3 ? reach : 1); ++k) {
-          const double x = g.centre(0, i), y = g.centre(1, j), z = dims == 3 ? g.centre(2, k) : 0.0;
+          const double x = g.centre(0, i), y = dims >= 2 ? g.centre(1, j) : 0.0, z = dims == 3 ? g.centre(2, k) : 0.0;
           if (x * x + y * y + z * z > r_dep * r_dep) continue;
           vol += g.cellVolume(i, j, k);
           hot.push_back(g.index(i, j, k));
@@ -278,7 +283,7 @@ void sedov(const std::string& variant, const std::vector<int>& levels, Report& r
     for (const double x : prof.x) prof.exact.push_back(x < r_exact ? kNaN : 1.0);
     rep.profiles.push_back(std::move(prof));
     const bool closed = true;   // the blast has not reached the outer boundary by t = 1
-    rep.rows.push_back({name, dims == 3 ? "3D" : (geo == Geometry::Axisymmetric ? "2D axisymmetric" : "2D plane"),
+    rep.rows.push_back({name, dims == 3 ? "3D" : (geo == Geometry::Axisymmetric ? "2D axisymmetric" : (dims == 1 ? "1D spherical" : "2D plane")),
                         "|R_shock - R_exact| / R_exact", n, g.interiorCells(), std::abs(R - r_exact) / r_exact, 0.0,
                         drift(before, after, closed), seconds(t0), "", true, s.stats().steps});
   }
@@ -700,52 +705,138 @@ void steelPrecursor(const std::vector<int>& levels, Report& rep) {
   }
 }
 
-// 1 kg TNT sphere in free air, 2D axisymmetric: peak incident overpressure at 1, 1.5, 2 and 3 m
-// against Kinney & Graham's free-air curve (rows per gauge at the finest mesh, RMS error per mesh).
-void tntFreeAir(const std::vector<int>& levels, Report& rep) {
-  const std::size_t first = rep.rows.size();
-  const Material tnt = materials::explosive("TNT");
-  const double mass = 1.0, radius = std::cbrt(3.0 * mass / (4.0 * M_PI * tnt.jwl.rho0));
-  const double L = 3.3, p0 = 101325.0, rho_air = 1.225;
-  const std::vector<double> gauges{1.0, 1.5, 2.0, 3.0};
-  std::vector<double> peaks;
-  for (const int n : levels) {
-    const auto t0 = std::chrono::steady_clock::now();
-    SolverOptions o;
-    setAll(o, BoundaryKind::Transmit);
-    o.boundary[0][0] = o.boundary[1][0] = BoundaryKind::Reflect;
-    o.detonation.push_back({{0.0, 0.0, 0.0}, 0.0});
-    o.initial_dt_fraction = 0.1;
-    Solver s(Grid(2, Geometry::Axisymmetric, {Axis::uniform(0.0, L, n), Axis::uniform(0.0, L, n), Axis{}}), {materials::air(), tnt}, o);
+// 1 kg TNT sphere in free air, 1D spherical, run as `ejecta run` runs a charge (RunSettings): the
+// deck's air and JWL, CFL, centre initiation, the charge painted with sub-samples, the first step a
+// fraction of the CFL step and growing by at most 20% a step, and, where the run's cells give the
+// charge fewer than 20 per height (diameter), the early time on a nested fine block mapped onto the
+// run mesh (hydro::mapNested) when the fastest wave could reach the block's cut side. Peak incident
+// overpressure at 1, 1.5, 2 and 3 m (linear between cell centres, the largest over every step).
+struct FreeAirRun {
+  std::vector<double> peaks;   // Pa over ambient, per gauge
+  std::size_t cells = 0;
+  long long steps = 0;         // run mesh and fine block together
+  double books = 0.0;
+  double fine_cell_m = 0.0;    // the early-time block's cell (0: not used)
+};
+FreeAirRun tntFreeAirRun(double cell_m, const std::vector<double>& gauges, double mass) {
+  const RunSettings rs;
+  const Material air = materials::air(), tnt = materials::explosive("TNT");
+  const double radius = std::cbrt(3.0 * mass / (4.0 * M_PI * tnt.jwl.rho0)), height = 2.0 * radius;
+  const double p0 = rs.air_pressure_pa, rho_air = rs.air_density_kg_m3;
+  const double L = gauges.back() + 0.5;   // room for the front to pass the last gauge before any outflow matters
+  const int n = static_cast<int>(std::lround(L / cell_m));
+  SolverOptions o;
+  o.cfl = rs.cfl;
+  o.initial_dt_fraction = rs.initial_dt_fraction;
+  o.boundary[0] = {BoundaryKind::Reflect, BoundaryKind::Transmit};
+  o.detonation.push_back({{0.0, 0.0, 0.0}, 0.0});
+  auto paintCharge = [&](Solver& s) {
     s.paint(0, [](const Vec3&) { return true; }, rho_air, gasEnergy(p0, rho_air, 1.4));
-    s.paint(1, [radius](const Vec3& x) { return std::hypot(x[0], x[1]) < radius; }, tnt.jwl.rho0, tnt.jwl.e0 / tnt.jwl.rho0, {}, 8);
-    const Grid& g = s.grid();
-    // gauges along the axis and along the ground-plane diagonal... use the radial line z = 0 and the axis r = 0
-    std::vector<std::pair<std::size_t, std::size_t>> cells;
-    for (const double r : gauges) cells.push_back({g.index(cellAt(g, 0, r), 0, 0), g.index(0, cellAt(g, 1, r), 0)});
-    peaks.assign(gauges.size(), 0.0);
-    const double t_end = 1.3 * (gauges.back() - 0.5) / 340.0;   // the front has passed the last gauge
-    s.advanceTo(t_end, [&](const Solver& sv) {
-      for (std::size_t q = 0; q < cells.size(); ++q)
-        peaks[q] = std::max(peaks[q], 0.5 * (sv.pressure(cells[q].first) + sv.pressure(cells[q].second)) - p0);
-    });
-    double rms = 0.0;
+    s.paint(1, [radius](const Vec3& x) { return std::abs(x[0]) < radius; }, tnt.jwl.rho0, tnt.jwl.e0 / tnt.jwl.rho0, {}, rs.charge_paint_samples);
+  };
+  Solver s(Grid(1, Geometry::Spherical, {Axis::uniform(0.0, L, n), Axis{}, Axis{}}), {air, tnt}, o);
+  paintCharge(s);
+  double e_initial = s.totals().total();
+  FreeAirRun out;
+  out.cells = s.grid().interiorCells();
+  const double h = L / n;
+  if (h * rs.early_cells_per_charge_height > height * (1.0 + 1e-9)) {
+    const int ratio = static_cast<int>(std::ceil(h * rs.early_cells_per_charge_height / height - 1e-9));
+    const double burn_time = std::hypot(radius, height) / tnt.jwl.d_cj;   // as scenario::planEarly, for a charge of this height
+    const int run_cells = static_cast<int>(std::ceil((radius + rs.early_reach_burn_times * burn_time * rs.early_signal_speed_m_s) / h - 1e-9));
+    const double r_block = run_cells * h;
+    Solver fine(Grid(1, Geometry::Spherical, {Axis::uniform(0.0, r_block, run_cells * ratio), Axis{}, Axis{}}), {air, tnt}, o);
+    paintCharge(fine);
+    const double e_fine0 = fine.totals().total();
+    fine.advanceTo((r_block - radius) / rs.early_signal_speed_m_s);   // Solver::advanceTo grows the step as the run's early loop does
+    const auto fine_tot = fine.totals();
+    hydro::mapNested(fine, s);
+    s.startAt(fine.time(), fine.energyLedger());
+    e_initial = s.totals().total() - fine_tot.total() + e_fine0;
+    out.steps += fine.stats().steps;
+    out.fine_cell_m = r_block / (run_cells * ratio);
+  }
+  const Grid& g = s.grid();
+  std::vector<std::pair<int, double>> at;   // the cell below each gauge and the weight of the one above
+  for (const double r : gauges) {
+    const int i = std::clamp(static_cast<int>(std::floor(r / h - 0.5)), 0, n - 2);
+    at.push_back({i, (r - g.centre(0, i)) / (g.centre(0, i + 1) - g.centre(0, i))});
+  }
+  out.peaks.assign(gauges.size(), 0.0);
+  const double front_level = 0.01 * kinneyGrahamOverpressure(gauges.back() / std::cbrt(mass), p0);
+  auto frontRadius = [&]() {
+    for (int i = n - 1; i >= 0; --i)
+      if (s.pressure(g.index(i, 0, 0)) - p0 > front_level) return g.centre(0, i);
+    return 0.0;
+  };
+  // Steps as run.cpp's main loop (no output times to land on) until the front is well past the last gauge.
+  double dt_prev = 0.0;
+  while (frontRadius() < gauges.back() + 0.2) {
+    if (s.time() > 0.05) throw RunError("tnt-free-air: the blast front did not pass the last gauge within 50 ms");
+    double dt = s.stableTimeStep();
+    dt = dt_prev > 0.0 ? std::min(dt, rs.dt_growth * dt_prev) : rs.initial_dt_fraction * dt;
+    s.step(dt);
+    dt_prev = dt;
     for (std::size_t q = 0; q < gauges.size(); ++q) {
-      const double ref = kinneyGrahamOverpressure(gauges[q] / std::cbrt(mass), p0);
-      rms += (peaks[q] - ref) * (peaks[q] - ref) / (ref * ref) / static_cast<double>(gauges.size());
+      const double pl = s.pressure(g.index(at[q].first, 0, 0)), pr = s.pressure(g.index(at[q].first + 1, 0, 0));
+      out.peaks[q] = std::max(out.peaks[q], pl + at[q].second * (pr - pl) - p0);
     }
-    rep.rows.push_back({"tnt-free-air", "2D axisymmetric", "RMS relative error of peak overpressure (1-3 m)", n, g.interiorCells(), std::sqrt(rms),
-                        0.0, kNaN, seconds(t0), "", true, s.stats().steps});
   }
-  fillOrders(rep.rows, first, "tnt-free-air");
-  Profile prof{"tnt-free-air", levels.back(), "distance [m] (1 kg TNT)", "peak overpressure [Pa]", gauges, peaks, {}};
-  for (std::size_t q = 0; q < gauges.size(); ++q) {
-    const double ref = kinneyGrahamOverpressure(gauges[q], p0);
-    prof.exact.push_back(ref);
-    rep.rows.push_back({fmt::format("tnt-free-air@{:g}m", gauges[q]), "2D axisymmetric", "|dp_peak - dp_KG| / dp_KG (Kinney & Graham 1985)",
-                        levels.back(), rep.rows.back().cells, std::abs(peaks[q] - ref) / ref, kNaN, kNaN, 0.0, "", true});
+  out.steps += s.stats().steps;
+  const auto end = s.totals();
+  out.books = std::abs(end.total() - end.accounted(e_initial)) / std::max(std::abs(e_initial), std::abs(end.total()));
+  return out;
+}
+
+// Checked at the finest level: each gauge's peak within 20% of Kinney & Graham's curve (a fit to
+// measurements; the published free-air curves differ from it by 10-25% at these distances, see
+// docs/solver.md, so a converged ideal-gas air + JWL model can be asked for no more), and the peaks
+// converged: no gauge's peak moves more than 5% between the two finest levels, so that what is
+// compared with the curve is the model's answer and not the mesh's. The coarser levels are
+// informative; the coarsest, 10 mm, is the run's own cell size with its early-time block.
+void tntFreeAir(const std::vector<double>& cells_mm, Report& rep) {
+  const double mass = 1.0, p0 = RunSettings{}.air_pressure_pa;
+  const std::vector<double> gauges{1.0, 1.5, 2.0, 3.0};
+  constexpr double kCurveLimit = 0.20, kConvergedLimit = 0.05;
+  std::vector<double> ref;
+  for (const double r : gauges) ref.push_back(kinneyGrahamOverpressure(r / std::cbrt(mass), p0));
+  std::vector<std::vector<double>> peaks;
+  for (const double mm : cells_mm) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto run = tntFreeAirRun(mm / 1000.0, gauges, mass);
+    double worst = 0.0;
+    std::string each;
+    for (std::size_t q = 0; q < gauges.size(); ++q) {
+      const double err = (run.peaks[q] - ref[q]) / ref[q];
+      worst = std::max(worst, std::abs(err));
+      each += fmt::format("{}{:g} m {:+.1f}%", q ? ", " : "", gauges[q], 100.0 * err);
+    }
+    const std::string early = run.fine_cell_m > 0.0 ? fmt::format(", early time on {:.3g} mm cells", 1e3 * run.fine_cell_m) : "";
+    rep.rows.push_back({"tnt-free-air", "1D spherical", fmt::format("max |dp_peak - dp_KG| / dp_KG over 1-3 m ({:g} mm cells{}; {})", mm, early, each),
+                        static_cast<int>(run.cells), run.cells, worst, kNaN, run.books, seconds(t0), "", true, run.steps});
+    peaks.push_back(run.peaks);
   }
+  const std::size_t cells = rep.rows.back().cells;
+  Profile prof{"tnt-free-air", rep.rows.back().resolution, "distance [m] (1 kg TNT)", "peak overpressure [Pa]", gauges, peaks.back(), ref};
   rep.profiles.push_back(std::move(prof));
+  for (std::size_t q = 0; q < gauges.size(); ++q) {
+    const double err = std::abs(peaks.back()[q] - ref[q]) / ref[q];
+    rep.rows.push_back({fmt::format("tnt-free-air@{:g}m", gauges[q]), "1D spherical",
+                        fmt::format("|dp_peak - dp_KG| / dp_KG (Kinney & Graham 1985: {:.4g} kPa), {:g} mm cells", 1e-3 * ref[q], cells_mm.back()),
+                        rep.rows.back().resolution, cells, err, kNaN, kNaN, 0.0, fmt::format("within {:g}% of the curve", 100.0 * kCurveLimit),
+                        err <= kCurveLimit});
+  }
+  if (peaks.size() >= 2) {
+    double moved = 0.0;
+    const auto& a = peaks[peaks.size() - 2];
+    const auto& b = peaks.back();
+    for (std::size_t q = 0; q < gauges.size(); ++q) moved = std::max(moved, std::abs(b[q] - a[q]) / b[q]);
+    rep.rows.push_back({"tnt-free-air-converged", "1D spherical",
+                        fmt::format("max over the gauges of |dp({:g} mm) - dp({:g} mm)| / dp({:g} mm)", cells_mm[cells_mm.size() - 2], cells_mm.back(),
+                                    cells_mm.back()),
+                        rep.rows.back().resolution, cells, moved, kNaN, kNaN, 0.0, fmt::format("<= {:g}% (converged)", 100.0 * kConvergedLimit),
+                        moved <= kConvergedLimit});
+  }
 }
 
 }  // namespace
@@ -781,10 +872,11 @@ Report runVerification(const Options& opt) {
     smoothAdvection(2, q ? std::vector<int>{32, 64, 128} : std::vector<int>{32, 64, 128, 256}, rep);
   }
   if (wanted("sedov")) {
-    say("Sedov blast: cylindrical (2D plane), spherical (2D axisymmetric, 3D)");
+    say("Sedov blast: cylindrical (2D plane), spherical (2D axisymmetric, 3D, 1D spherical)");
     sedov("cyl", q ? std::vector<int>{60, 120, 240} : std::vector<int>{60, 120, 240, 480}, rep);
     sedov("axi", q ? std::vector<int>{60, 120, 240} : std::vector<int>{60, 120, 240, 480}, rep);
     sedov("3d", q ? std::vector<int>{24, 48} : std::vector<int>{24, 48, 96}, rep);
+    sedov("sph", q ? std::vector<int>{60, 120, 240} : std::vector<int>{60, 120, 240, 480}, rep);
   }
   if (wanted("noh")) {
     say("Noh implosion (cylindrical)");
@@ -815,8 +907,8 @@ Report runVerification(const Options& opt) {
     chargeInWetSand(q ? std::vector<int>{8, 16, 32} : std::vector<int>{8, 16, 32, 64}, rep);
   }
   if (wanted("tnt-free-air")) {
-    say("1 kg TNT in free air (2D axisymmetric)");
-    tntFreeAir(q ? std::vector<int>{55, 110} : std::vector<int>{55, 110, 220}, rep);
+    say("1 kg TNT in free air (1D spherical, the run's settings and early time)");
+    tntFreeAir(q ? std::vector<double>{10.0, 5.0, 2.5, 1.25} : std::vector<double>{10.0, 5.0, 2.5, 1.25, 0.625}, rep);
   }
   // Every row that ran the solver has its energy books checked: round-off only.
   for (auto& r : rep.rows) {

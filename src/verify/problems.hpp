@@ -42,6 +42,19 @@ struct Options {
   std::function<void(const std::string&)> log;         // progress messages
 };
 
+// How `ejecta run` runs a charge (scenario/case.cpp, scenario/run.cpp), restated for the free-air
+// blast row, which sits below the scenario layer; a unit test holds these to the deck's defaults.
+struct RunSettings {
+  double cfl = 0.45;                            // - the deck's default
+  double initial_dt_fraction = 0.1;             // - first step, of the CFL step
+  double dt_growth = 1.2;                       // - largest growth of the step from one step to the next
+  int charge_paint_samples = 8;                 // sub-samples per axis of a cell cut by the charge
+  double air_pressure_pa = 101325.0, air_density_kg_m3 = 1.225;
+  double early_cells_per_charge_height = 20.0;  // - the early-time block's resolution
+  double early_signal_speed_m_s = 6000.0;       // m/s, the fastest wave the block holds until the map
+  double early_reach_burn_times = 4.0;          // the block's reach past the charge: this many burn times at that speed
+};
+
 std::vector<std::string> problemGroups();
 Report runVerification(const Options& opt);
 

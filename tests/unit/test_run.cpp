@@ -13,6 +13,7 @@
 #include "scenario/case.hpp"
 #include "scenario/deck.hpp"
 #include "verify/exact.hpp"
+#include "verify/problems.hpp"
 
 namespace {
 using namespace ejecta;
@@ -336,4 +337,18 @@ TEST(Decks, EveryShippedDeckLoads) {
     ++n;
   }
   EXPECT_GE(n, 14);
+}
+
+// The free-air blast row of `ejecta verify` restates how a run is set up (it sits below the
+// scenario layer): a change to the deck's defaults must reach it too.
+TEST(VerifyFreeAir, RunsWithTheDecksDefaults) {
+  const ejecta::scenario::Deck deck;
+  const ejecta::verify::RunSettings rs;
+  EXPECT_DOUBLE_EQ(rs.cfl, deck.cfl);
+  EXPECT_DOUBLE_EQ(rs.air_pressure_pa, deck.air_pressure_pa);
+  EXPECT_DOUBLE_EQ(rs.air_density_kg_m3, deck.air_density_kg_m3);
+  EXPECT_DOUBLE_EQ(rs.early_cells_per_charge_height, deck.early.cells_per_charge_height);
+  EXPECT_DOUBLE_EQ(rs.early_signal_speed_m_s, deck.early.signal_speed_m_s);
+  EXPECT_TRUE(deck.early.enabled);
+  EXPECT_EQ(deck.early.block_margin_m, 0.0);   // 0: the reach in burn times (RunSettings::early_reach_burn_times)
 }
