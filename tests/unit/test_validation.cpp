@@ -37,7 +37,7 @@ TEST(ValidationPlan, FullLevelRunsThePublishedResolutionsAndEveryDeckLoads) {
 TEST(ValidationPlan, OnlyPicksStudiesAndTheirCasesAndRejectsUnknownNames) {
   const auto plan = scenario::validationPlan(ValidationLevel::Quick, {"sensitivity"});
   ASSERT_EQ(plan.studies, std::vector<std::string>{"sensitivity"});
-  EXPECT_EQ(plan.cases.size(), 6u);   // the EMI 7% baseline and five changed inputs
+  EXPECT_EQ(plan.cases.size(), 11u);   // the EMI 7% baseline and ten changed inputs (four standoffs, two couplings)
   EXPECT_EQ(plan.cases.front().id, "emi-flat-7");
   try {
     scenario::validationPlan(ValidationLevel::Quick, {"mesh", "bogus"});
@@ -103,9 +103,14 @@ TEST(ValidationReport, StudiesComputeSpreadTrendsAndChangesFromTheResults) {
   // field: +5% against the undisturbed 5 cm case is the largest change, under the 10% limit
   EXPECT_NEAR(section("field").at("checks")[0].at("value").get<double>(), 5.0, 1e-9);
   EXPECT_TRUE(section("field").at("checks")[0].at("pass").get<bool>());
-  // sensitivity: 5 cm of standoff costs 5%, -1% per cm
-  EXPECT_EQ(section("sensitivity").at("table").at("rows")[0][4], "-5.0%");
-  EXPECT_EQ(section("sensitivity").at("table").at("rows")[0][5], "-1.00 % per cm");
+  // sensitivity: 5 cm less standoff (0.10 -> 0.05 m) costs 5% here, +1% per cm of standoff
+  const auto sens = section("sensitivity");
+  EXPECT_EQ(sens.at("table").at("rows")[1][2], "0.05 m");
+  EXPECT_EQ(sens.at("table").at("rows")[1][4], "-5.0%");
+  EXPECT_EQ(sens.at("table").at("rows")[1][5], "+1.00 % per cm");
+  // the impulse against standoff over 0-0.3 m, and the fixed plate against the free one
+  EXPECT_NE(sens.at("paragraphs")[1].get<std::string>().find("5000 / 3800 / 4000 / 5000 / 5000 N s at 0 / 0.05 / 0.10 / 0.20 / 0.30 m"), std::string::npos);
+  EXPECT_NE(sens.at("paragraphs")[2].get<std::string>().find("held fixed, the plate takes +25.0%"), std::string::npos);
   // histories thinned to at most ~100 rows, the last kept
   const auto& h = out.at("mesh-5mm").at("history");
   EXPECT_LE(h.at("t_s").size(), 102u);
