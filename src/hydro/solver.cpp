@@ -319,7 +319,7 @@ static double cellSignalSpeed2(const std::vector<materials::Material>& mats, con
 double Solver::stableTimeStep() const {
   double dt = std::numeric_limits<double>::infinity();
   const int n0 = grid_.cells(0), n1 = grid_.cells(1), n2 = grid_.cells(2), dims = grid_.dims();
-  const bool team = useThreads();
+  [[maybe_unused]] const bool team = useThreads();
 #pragma omp parallel for collapse(2) reduction(min : dt) schedule(static) if (team)
   for (int i = 0; i < n0; ++i)
     for (int j = 0; j < n1; ++j)
@@ -425,7 +425,7 @@ void Solver::interfaceWeights(int d) {
   const int dims = grid_.dims();
   const int n0 = grid_.cells(0), n1 = grid_.cells(1), n2 = grid_.cells(2);
   const std::size_t total = grid_.totalCells();
-  const bool team = useThreads();
+  [[maybe_unused]] const bool team = useThreads();
 #pragma omp parallel for collapse(2) schedule(static) if (team)
   for (int i = 0; i < n0; ++i)
     for (int j = 0; j < n1; ++j)
@@ -464,7 +464,7 @@ void Solver::updateBurn(double dt) {
     const auto& j = mats_[k].jwl;
     auto& f = fields_[k];
     const int n0 = grid_.cells(0), n1 = grid_.cells(1), n2 = grid_.cells(2);
-    const bool team = useThreads();
+    [[maybe_unused]] const bool team = useThreads();
 #pragma omp parallel for schedule(static) if (team)
     for (int i = 0; i < n0; ++i)
       for (int jj = 0; jj < n1; ++jj)
@@ -487,7 +487,7 @@ void Solver::updateStress(double dt) {
   const int dims = grid_.dims();
   const bool axi = grid_.axisymmetric(), sph = grid_.spherical();
   const int n0 = grid_.cells(0), n1 = grid_.cells(1), n2 = grid_.cells(2);
-  const bool team = useThreads();
+  [[maybe_unused]] const bool team = useThreads();
 #pragma omp parallel for collapse(2) schedule(static) if (team)
   for (int i = 0; i < n0; ++i)
     for (int j = 0; j < n1; ++j)
@@ -750,7 +750,7 @@ void Solver::sweep(int d, double dt) {
   // so the result does not depend on the number of threads.
   std::vector<PencilLedger> ledgers(static_cast<std::size_t>(n1) * static_cast<std::size_t>(n2));
   std::size_t bad_cell = std::numeric_limits<std::size_t>::max();
-  const bool team = useThreads();
+  [[maybe_unused]] const bool team = useThreads();
 
 #pragma omp parallel if (team)
   {
