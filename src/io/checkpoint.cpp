@@ -3,10 +3,10 @@
 #include <fmt/format.h>
 #include <zlib.h>
 
-#include <cstring>
-#include <fstream>
 #include <algorithm>
-#include <sstream>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -20,10 +20,6 @@ constexpr std::uint64_t kMaxPayload = 1ULL << 36;   // 64 GiB: more than any mes
 template <class T>
 void put(std::ostream& os, const T& v) {
   os.write(reinterpret_cast<const char*>(&v), sizeof v);
-}
-template <class T>
-bool get(std::istream& is, T& v) {
-  return static_cast<bool>(is.read(reinterpret_cast<char*>(&v), sizeof v));
 }
 [[noreturn]] void refuse(const std::string& why) { throw InputError("restart", why); }
 }  // namespace
@@ -70,33 +66,50 @@ void writeCheckpointFile(const std::string& path, const CheckpointHeader& h, con
   });
 }
 
-std::string readCheckpointFile(const std::string& path, const CheckpointHeader& expected, double* time_s) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) refuse(fmt::format("cannot read '{}'", path));
+std::string parseCheckpoint(std::string bytes, const CheckpointHeader& expected, double* time_s, const std::string& source) {
+  std::size_t at = 0;
+  // Copies the next field out of `bytes`; false (nothing read) when too few bytes are left.
+  const auto take = [&](auto& v) {
+    if (bytes.size() - at < sizeof v) return false;
+    std::memcpy(&v, bytes.data() + at, sizeof v);
+    at += sizeof v;
+    return true;
+  };
   char magic[8] = {};
   CheckpointHeader h;
   std::uint64_t length = 0;
   std::uint32_t crc = 0;
-  if (!in.read(magic, sizeof magic) || std::memcmp(magic, kMagic, sizeof magic) != 0) refuse(fmt::format("'{}' is not an ejecta checkpoint", path));
-  if (!get(in, h.format) || h.format != expected.format)
-    refuse(fmt::format("'{}' has checkpoint format {}; this build reads format {}", path, h.format, expected.format));
-  if (!(get(in, h.solver_revision) && get(in, h.deck_digest) && get(in, h.build_digest) && get(in, h.time_s) && get(in, length) && get(in, crc)))
-    refuse(fmt::format("'{}' is truncated", path));
-  if (length > kMaxPayload) refuse(fmt::format("'{}' is damaged (payload length {})", path, length));
-  std::string payload(static_cast<std::size_t>(length), '\0');
-  if (!in.read(payload.data(), static_cast<std::streamsize>(length))) refuse(fmt::format("'{}' is truncated", path));
-  if (in.peek() != std::char_traits<char>::eof()) refuse(fmt::format("'{}' is damaged (bytes after the payload)", path));
-  if (crc32Of(payload) != crc) refuse(fmt::format("'{}' is damaged (checksum mismatch)", path));
+  if (!take(magic) || std::memcmp(magic, kMagic, sizeof magic) != 0) refuse(fmt::format("'{}' is not an ejecta checkpoint", source));
+  if (!take(h.format) || h.format != expected.format)
+    refuse(fmt::format("'{}' has checkpoint format {}; this build reads format {}", source, h.format, expected.format));
+  if (!(take(h.solver_revision) && take(h.deck_digest) && take(h.build_digest) && take(h.time_s) && take(length) && take(crc)))
+    refuse(fmt::format("'{}' is truncated", source));
+  if (length > kMaxPayload) refuse(fmt::format("'{}' is damaged (payload length {})", source, length));
+  // The length is checked against the bytes there before anything is allocated for it.
+  if (length > bytes.size() - at) refuse(fmt::format("'{}' is truncated", source));
+  if (length < bytes.size() - at) refuse(fmt::format("'{}' is damaged (bytes after the payload)", source));
+  bytes.erase(0, at);
+  if (crc32Of(bytes) != crc) refuse(fmt::format("'{}' is damaged (checksum mismatch)", source));
   if (h.solver_revision != expected.solver_revision)
-    refuse(fmt::format("'{}' was written by solver revision {}; this build is revision {}", path, h.solver_revision, expected.solver_revision));
+    refuse(fmt::format("'{}' was written by solver revision {}; this build is revision {}", source, h.solver_revision, expected.solver_revision));
   if (h.build_digest != expected.build_digest)
     refuse(fmt::format("'{}' was written by another build of ejecta (build digest {:08x}, this one {:08x}); restarts are bit for bit only on the same build",
-                       path, h.build_digest, expected.build_digest));
+                       source, h.build_digest, expected.build_digest));
   if (h.deck_digest != expected.deck_digest)
     refuse(fmt::format("'{}' was written for another deck (deck digest {:08x}, this deck {:08x}); only end_time_s and output.* may differ on a restart",
-                       path, h.deck_digest, expected.deck_digest));
+                       source, h.deck_digest, expected.deck_digest));
   if (time_s) *time_s = h.time_s;
-  return payload;
+  return bytes;
+}
+
+std::string readCheckpointFile(const std::string& path, const CheckpointHeader& expected, double* time_s) {
+  // A device or a FIFO is refused before it is read: /dev/zero would grow without bound.
+  std::error_code ec;
+  const auto st = std::filesystem::status(path, ec);
+  if (!ec && std::filesystem::exists(st) && !std::filesystem::is_regular_file(st)) refuse(fmt::format("'{}' is not a regular file", path));
+  auto bytes = readWholeFile(path);
+  if (!bytes) refuse(fmt::format("cannot read '{}'", path));
+  return parseCheckpoint(std::move(*bytes), expected, time_s, path);
 }
 
 }  // namespace ejecta::io

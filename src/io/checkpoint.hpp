@@ -26,9 +26,12 @@ std::uint32_t buildDigest();
 
 // Writes the envelope and the payload to `path` atomically.
 void writeCheckpointFile(const std::string& path, const CheckpointHeader& h, const std::string& payload);
-// Reads and checks a checkpoint: refused (InputError on "restart", exit 2) when it is not a
+// Checks a checkpoint's bytes: refused (InputError on "restart", exit 2) when they are not a
 // checkpoint, of another format, truncated, damaged (CRC), or written by another deck, solver
-// revision or build. Returns the payload.
+// revision or build; `source` names them in the message. Returns the payload. `bytes` is taken by
+// value so that a caller can move a large file in and the payload is cut out of it in place.
+std::string parseCheckpoint(std::string bytes, const CheckpointHeader& expected, double* time_s, const std::string& source = "checkpoint");
+// Reads the file at `path` (a regular file) and checks it as parseCheckpoint does.
 std::string readCheckpointFile(const std::string& path, const CheckpointHeader& expected, double* time_s);
 
 }  // namespace ejecta::io

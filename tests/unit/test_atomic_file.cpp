@@ -92,3 +92,40 @@ TEST(CheckpointFile, RoundTripsAndRefusesAnotherBuildRevisionDeckOrDamage) {
   EXPECT_TRUE(refusedWith(h, "checksum"));
   std::filesystem::remove_all(dir);
 }
+
+// The envelope read from memory (what the fuzzer drives): a length is checked against the bytes
+// there before anything is allocated for it, and what is not a regular file is never read.
+TEST(CheckpointFile, ParsesFromMemoryAndRefusesALengthTheBytesDoNotHold) {
+  const auto dir = freshDir("checkpoint-memory");
+  const std::string path = (dir / "c.bin").string();
+  ejecta::io::CheckpointHeader h;
+  h.time_s = 2.5e-3;
+  const std::string payload = "payload";
+  ejecta::io::writeCheckpointFile(path, h, payload);
+  const auto bytes = ejecta::io::readWholeFile(path).value();
+  double t = 0.0;
+  EXPECT_EQ(ejecta::io::parseCheckpoint(bytes, h, &t), payload);
+  EXPECT_EQ(t, 2.5e-3);
+  const auto refusedWith = [&](const std::string& b, const std::string& words) {
+    try {
+      ejecta::io::parseCheckpoint(b, h, nullptr, "c.bin");
+    } catch (const ejecta::InputError& err) {
+      return std::string(err.what()).find(words) != std::string::npos;
+    }
+    return false;
+  };
+  // The length field sits after magic, format, revision, two digests and the time: 8 + 4 * 4 + 8.
+  std::string huge = bytes.substr(0, 32);
+  const std::uint64_t length = 1ULL << 35;   // 32 GiB claimed by a 44-byte file
+  huge.append(reinterpret_cast<const char*>(&length), sizeof length);
+  huge.append(4, '\0');
+  EXPECT_TRUE(refusedWith(huge, "truncated"));
+  EXPECT_TRUE(refusedWith(bytes.substr(0, bytes.size() - 1), "truncated"));
+  EXPECT_TRUE(refusedWith(bytes + "x", "bytes after the payload"));
+  EXPECT_TRUE(refusedWith(bytes.substr(0, 20), "truncated"));
+  EXPECT_TRUE(refusedWith("", "not an ejecta checkpoint"));
+  EXPECT_THROW(ejecta::io::readCheckpointFile("/dev/zero", h, nullptr), ejecta::InputError);
+  EXPECT_THROW(ejecta::io::readCheckpointFile(dir.string(), h, nullptr), ejecta::InputError);
+  EXPECT_THROW(ejecta::io::readCheckpointFile((dir / "absent.bin").string(), h, nullptr), ejecta::InputError);
+  fs::remove_all(dir);
+}
