@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Sets up, builds and runs every test: once optimised with warnings as errors, once under
-# AddressSanitizer + UndefinedBehaviorSanitizer. This is the command CI runs.
+# AddressSanitizer + UndefinedBehaviorSanitizer; then fuzzes the deck and checkpoint readers for
+# a minute each (scripts/fuzz.sh). This is the command CI runs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/setup.sh
@@ -10,3 +11,4 @@ ctest --test-dir build/release --output-on-failure -j "$jobs" -LE long
 ./scripts/build.sh sanitize
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
   ctest --test-dir build/sanitize --output-on-failure -j "$jobs" -LE 'long|nosan'
+./scripts/fuzz.sh 60
