@@ -54,12 +54,24 @@ void putList(std::ostream& os, const std::vector<double>& v) {
   os.write(reinterpret_cast<const char*>(&n), sizeof n);
   os.write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(n * sizeof(double)));
 }
+[[noreturn]] void damagedCheckpoint() { throw InputError("restart", "the checkpoint is damaged"); }
+// A count stored as a double: a whole number in [0, 2^32], else the checkpoint is damaged (casting
+// a NaN, a negative or a huge double to an integer is undefined).
+std::size_t countOf(double v) {
+  if (!(v >= 0.0 && v <= 4294967296.0 && v == std::floor(v))) damagedCheckpoint();
+  return static_cast<std::size_t>(v);
+}
 std::vector<double> getList(std::istream& is) {
   std::uint64_t n = 0;
   is.read(reinterpret_cast<char*>(&n), sizeof n);
-  if (!is || n > (1ULL << 32)) throw InputError("restart", "the checkpoint is damaged");
-  std::vector<double> v(n);
-  is.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(n * sizeof(double)));
+  if (!is || n > (1ULL << 32)) damagedCheckpoint();
+  // Read in blocks, so that a damaged length allocates no more than the bytes that are there.
+  std::vector<double> v;
+  while (v.size() < n && is) {
+    const std::size_t at = v.size(), k = std::min<std::size_t>(n - at, std::size_t{1} << 16);
+    v.resize(at + k);
+    is.read(reinterpret_cast<char*>(v.data() + at), static_cast<std::streamsize>(k * sizeof(double)));
+  }
   return v;
 }
 void putTable(std::ostream& os, const std::vector<std::vector<double>>& t) {
@@ -68,8 +80,9 @@ void putTable(std::ostream& os, const std::vector<std::vector<double>>& t) {
 }
 std::vector<std::vector<double>> getTable(std::istream& is) {
   const auto n = getList(is);
+  if (n.size() != 1) damagedCheckpoint();
   std::vector<std::vector<double>> t;
-  for (std::size_t i = 0; i < static_cast<std::size_t>(n.at(0)); ++i) t.push_back(getList(is));
+  for (std::size_t i = 0, rows = countOf(n[0]); i < rows; ++i) t.push_back(getList(is));
   return t;
 }
 void putState(std::ostream& os, const DriverState& s) {
@@ -82,9 +95,11 @@ void putState(std::ostream& os, const DriverState& s) {
   putTable(os, s.profiles);
   putList(os, s.field_times);
 }
-void getState(std::istream& is, DriverState& s) {
+// Reads what putState wrote; refused unless what the run indexes without further checks fits it:
+// three impulse kinds, one profile per profile time with a value per r column (`profile_columns`).
+void getState(std::istream& is, DriverState& s, std::size_t profile_columns) {
   const auto a = getList(is);
-  if (a.size() != 11) throw InputError("restart", "the checkpoint is damaged");
+  if (a.size() != 11) damagedCheckpoint();
   s.energy_initial = a[9];
   s.dt_free = a[10];
   s.static_known = a[7] != 0.0;
@@ -94,14 +109,17 @@ void getState(std::istream& is, DriverState& s) {
   s.impulse = a[2];
   s.peak_force = a[3];
   s.next_history = a[4];
-  s.next_profile = static_cast<std::size_t>(a[5]);
-  s.next_field = static_cast<std::size_t>(a[6]);
+  s.next_profile = countOf(a[5]);
+  s.next_field = countOf(a[6]);
   s.impulse_kind = getList(is);
   s.history = getTable(is);
   s.gauges = getTable(is);
   s.profile_times = getList(is);
   s.profiles = getTable(is);
   s.field_times = getList(is);
+  const bool profiles_fit = s.profiles.size() == s.profile_times.size() &&
+                            std::all_of(s.profiles.begin(), s.profiles.end(), [&](const auto& p) { return p.size() == profile_columns; });
+  if (s.impulse_kind.size() != 3 || !profiles_fit) damagedCheckpoint();
 }
 
 // What ties a checkpoint to its deck and build. The deck digest leaves out end_time_s and the
@@ -254,7 +272,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   if (!opt.restart.empty()) {
     std::istringstream in(io::readCheckpointFile(opt.restart, checkpointHeader(deck, 0.0), nullptr));
     s.readCheckpoint(in);
-    getState(in, st);
+    getState(in, st, static_cast<std::size_t>(g.cells(0)));
     if (!in) throw InputError("restart", "the checkpoint is truncated");
     if (!(s.time() < deck.end_time_s))
       throw InputError("end_time_s", fmt::format("{:g} s is not after the checkpoint's time, {:g} s", deck.end_time_s, s.time()));

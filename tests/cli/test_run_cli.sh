@@ -87,6 +87,13 @@ err=$("$ejecta" run "${common[@]}" --restart cut.bin --out c 2>&1 >/dev/null)
 check "restart from a truncated checkpoint: exit 2" "[[ $? -eq 2 ]] && grep -q truncated <<< \"\$err\""
 err=$("$ejecta" run "${common[@]}" --restart a/summary.json --out c 2>&1 >/dev/null)
 check "restart from a file that is not a checkpoint: exit 2" "[[ $? -eq 2 ]] && grep -q 'not an ejecta checkpoint' <<< \"\$err\""
+# ...and so is a driver state that does not fit, behind a valid envelope (the run would index it)
+mkdir -p bad && python3 "$(dirname "$0")/damage_driver_state.py" a/checkpoint.bin bad
+check "five damaged driver states written" "[[ \$(ls bad/*.bin | wc -l) -eq 5 ]]"
+for f in bad/*.bin; do
+  err=$("$ejecta" run "${common[@]}" --restart "$f" --out c 2>&1 >/dev/null)
+  check "restart from $f: exit 2 (damaged)" "[[ $? -eq 2 ]] && grep -q 'checkpoint is damaged' <<< \"\$err\""
+done
 "$ejecta" run "${common[@]}" --restart a/checkpoint.bin --set end_time_s=0.0007 --set 'output.field_times_s=[0.00065]' --out e --no-plot > /dev/null 2> e.err
 check "restart running longer with other outputs is allowed ($(tail -1 e.err))" "[[ $? -eq 0 ]]"
 err=$("$ejecta" run emi-flat-7 --cell-size '' --out c 2>&1 >/dev/null)

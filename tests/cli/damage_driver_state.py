@@ -1,0 +1,43 @@
+#!/usr/bin/env python3
+"""Writes damaged copies of a checkpoint whose envelope is still valid (length and CRC-32 right):
+only the driver's state (src/scenario/run.cpp, putState) is changed, the part the envelope's and
+the solver's checks do not see. Usage: damage_driver_state.py CHECKPOINT FOLDER"""
+import struct
+import sys
+import zlib
+
+source, folder = sys.argv[1], sys.argv[2]
+data = open(source, 'rb').read()
+head, payload = data[:32], data[44:]   # envelope: 32 bytes, u64 payload length, u32 CRC-32
+# The solver's part (Solver::writeCheckpoint): 80 bytes of scalars, then lists of one value per
+# cell (u64 count, doubles), then its energy ledger (3 doubles) and the body's offset (1 double).
+cells = struct.unpack_from('<Q', payload, 8)[0]
+at = 80
+while struct.unpack_from('<Q', payload, at)[0] == cells:
+    at += 8 + 8 * cells
+at += 32
+state = payload[at:]
+assert struct.unpack_from('<Q', state, 0)[0] == 11, 'the driver state starts with its 11 scalars'
+kinds = 8 + 8 * 11          # the impulse by kind (3 values) follows the scalars
+table = kinds + 8 + 8 * 3   # then the history table: its row count as a one-value list
+
+
+def write(name, damaged):
+    p = payload[:at] + damaged
+    with open(f'{folder}/{name}.bin', 'wb') as f:
+        f.write(head + struct.pack('<QI', len(p), zlib.crc32(p)) + p)
+
+
+def scalar(index, value):
+    s = bytearray(state)
+    struct.pack_into('<d', s, 8 + 8 * index, value)
+    return bytes(s)
+
+
+write('nan-index', scalar(5, float('nan')))                      # next profile index
+write('short-kinds', state[:kinds] + struct.pack('<Qd', 1, 0.0) + state[table:])
+write('empty-row-count', state[:table] + struct.pack('<Q', 0) + state[table + 16:])
+negative = bytearray(state)
+struct.pack_into('<d', negative, table + 8, -1.0)
+write('negative-row-count', bytes(negative))
+write('huge-list', state[:kinds] + struct.pack('<Q', 1 << 32) + state[kinds + 8:])   # 32 GiB claimed
