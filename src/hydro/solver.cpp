@@ -238,7 +238,15 @@ void Solver::readCheckpoint(std::istream& is) {
   if (!is) throw InputError("restart", "the checkpoint is truncated");
   if (!std::isfinite(body_offset_) || (mesh_axis_ < 0 && body_offset_ != 0.0))
     throw InputError("restart", "the checkpoint's body offset does not fit this set-up");
-  if (mesh_axis_ >= 0) grid_.moveFaces(mesh_axis_, movedAxis(body_offset_));
+  // A run only checkpoints an offset its mesh took: one the mesh cannot take is a damaged
+  // checkpoint (exit 2), not a blow-up (movedAxis's RunError, exit 3).
+  if (mesh_axis_ >= 0) {
+    try {
+      grid_.moveFaces(mesh_axis_, movedAxis(body_offset_));
+    } catch (const RunError&) {
+      throw InputError("restart", "the checkpoint's body offset does not fit this set-up");
+    }
+  }
 }
 
 // ------------------------------------------------------------------------------------------------
