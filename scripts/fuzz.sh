@@ -20,10 +20,12 @@ export ASAN_OPTIONS=external_symbolizer_path=/usr/bin/addr2line
 export UBSAN_OPTIONS=print_stacktrace=1:external_symbolizer_path=/usr/bin/addr2line
 ctest --test-dir build/fuzz --output-on-failure -L fuzz
 
+# Seeds and dictionaries: committed ones, and those build/fuzz generates from the code (make_fuzz_inputs).
 declare -A seeds=(
   [deck]="tests/fuzz/corpus/deck decks"
   [checkpoint]="tests/fuzz/corpus/checkpoint build/fuzz/tests/fuzz/seeds/checkpoint"
 )
+declare -A dicts=([deck]=build/fuzz/tests/fuzz/deck.dict [checkpoint]=tests/fuzz/checkpoint.dict)
 if [[ -n ${FUZZ_RUNS:-} ]]; then budget=(-runs="$FUZZ_RUNS"); else budget=(-max_total_time="$seconds"); fi
 declare -A pids
 for t in "${targets[@]}"; do
@@ -31,7 +33,7 @@ for t in "${targets[@]}"; do
   # The first folder collects what the fuzzer finds (kept between local runs); the seeds are read only.
   mkdir -p "build/fuzz/corpus/$t" "build/fuzz/artifacts/$t"
   # shellcheck disable=SC2086  # the seed folders are words
-  "build/fuzz/fuzz_$t" "${budget[@]}" -timeout=10 -rss_limit_mb=2048 -dict="tests/fuzz/$t.dict" \
+  "build/fuzz/fuzz_$t" "${budget[@]}" -timeout=10 -rss_limit_mb=2048 -dict="${dicts[$t]}" \
     -artifact_prefix="build/fuzz/artifacts/$t/" -print_final_stats=1 "build/fuzz/corpus/$t" ${seeds[$t]} \
     > "build/fuzz/fuzz_$t.log" 2>&1 &
   pids[$t]=$!

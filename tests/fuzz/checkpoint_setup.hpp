@@ -1,15 +1,21 @@
 #pragma once
-// What the checkpoint fuzz target and its seed writer share: a tiny solver set-up whose payload
-// is small (1D, one cell, air and steel so that the deviatoric stress fields are there too) and
-// the envelope's expected header.
+// What the checkpoint fuzz target and its seed writer share: tiny solver set-ups whose payload is
+// small (1D, five cells, air and steel so that the deviatoric stress fields are there too), one
+// with a body that carries the mesh with it (the payload's body offset moves the faces), and the
+// envelope's expected header.
 #include "hydro/solver.hpp"
 #include "io/checkpoint.hpp"
 
 namespace ejecta::fuzz {
 
-inline hydro::Solver tinySolver() {
-  return hydro::Solver(mesh::Grid(1, mesh::Geometry::Cartesian, {mesh::Axis::uniform(0.0, 1.0, 1), mesh::Axis{}, mesh::Axis{}}),
-                       {materials::air(), materials::steel()}, hydro::SolverOptions{});
+inline hydro::Solver tinySolver(bool moving_mesh) {
+  hydro::Solver s(mesh::Grid(1, mesh::Geometry::Cartesian, {mesh::Axis::uniform(0.0, 1.0, 5), mesh::Axis{}, mesh::Axis{}}),
+                  {materials::air(), materials::steel()}, hydro::SolverOptions{});
+  if (moving_mesh) {
+    s.setBody([](const hydro::Vec3& x) { return x[0] > 0.4 && x[0] < 0.6; });
+    s.moveMeshWithBody(0, 0.0, 1.0);
+  }
+  return s;
 }
 
 inline io::CheckpointHeader expectedHeader() {

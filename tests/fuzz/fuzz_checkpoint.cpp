@@ -1,6 +1,7 @@
 // libFuzzer target: the checkpoint reader, both layers a restart goes through.
 //   1. The envelope (io::parseCheckpoint): magic, format, digests, length, CRC-32.
-//   2. The solver's payload (hydro::Solver::readCheckpoint) for a tiny fixed set-up.
+//   2. The solver's payload (hydro::Solver::readCheckpoint) for two tiny set-ups, one whose body
+//      carries the mesh (checkpoint_setup.hpp).
 // Every input goes to both: as a whole file to the envelope (and its payload, where accepted, on
 // to the solver), and as a bare payload to the solver, because a mutation almost never keeps the
 // CRC right and would otherwise never reach the payload reader.
@@ -33,9 +34,15 @@ void expectOnlyInputErrors(const char* what, Read read) {
 }
 
 void readPayload(const std::string& payload) {
-  auto solver = ejecta::fuzz::tinySolver();
-  std::istringstream in(payload);
-  solver.readCheckpoint(in);
+  for (const bool moving_mesh : {false, true}) {
+    auto solver = ejecta::fuzz::tinySolver(moving_mesh);
+    std::istringstream in(payload);
+    try {
+      solver.readCheckpoint(in);
+    } catch (const ejecta::InputError&) {
+      // refused by this set-up; the other one reads it too
+    }
+  }
 }
 
 }  // namespace
