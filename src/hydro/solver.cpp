@@ -211,6 +211,7 @@ void Solver::writeCheckpoint(std::ostream& os) const {
   for (const auto& c : u_) putVec(os, c);
   putRaw(os, energy_);
   putRaw(os, body_offset_);
+  putRaw(os, dt_free_);
 }
 
 void Solver::readCheckpoint(std::istream& is) {
@@ -235,7 +236,9 @@ void Solver::readCheckpoint(std::istream& is) {
   for (auto& c : u_) getVec(is, c);
   getRaw(is, energy_);
   getRaw(is, body_offset_);
+  getRaw(is, dt_free_);
   if (!is) throw InputError("restart", "the checkpoint is truncated");
+  if (!(dt_free_ >= 0.0 && std::isfinite(dt_free_))) throw InputError("restart", "the checkpoint is damaged (time step)");
   if (!std::isfinite(body_offset_) || (mesh_axis_ < 0 && body_offset_ != 0.0))
     throw InputError("restart", "the checkpoint's body offset does not fit this set-up");
   // A run only checkpoints an offset its mesh took: one the mesh cannot take is a damaged
@@ -851,6 +854,7 @@ void Solver::step(double dt) {
 void Solver::startAt(double t, const EnergyLedger& booked) {
   time_ = t;
   last_dt_ = 0.0;
+  dt_free_ = 0.0;   // a mapped state starts its steps afresh
   energy_.boundary_in += booked.boundary_in;
   energy_.target_work += booked.target_work;
   energy_.gravity_work += booked.gravity_work;
@@ -893,19 +897,22 @@ Vec3 Solver::bodyLoad() const {
   return f;
 }
 
+double Solver::nextTimeStep(double stop) {
+  double dt = stableTimeStep();
+  dt = dt_free_ > 0.0 ? std::min(dt, 1.2 * dt_free_) : dt * opt_.initial_dt_fraction;
+  dt = std::min(dt, opt_.max_dt);
+  dt_free_ = dt;
+  dt = std::min(dt, stop - time_);
+  if (!(dt >= opt_.min_dt) && stop - time_ > opt_.min_dt)   // name the cell that forces the step down
+    throw RunError(fmt::format("time step collapsed to {:g} s (limit {:g} s) at t = {:.6g} s, step {}; {}", dt, opt_.min_dt, time_, step_,
+                               describeLimitingCell()));
+  return dt;
+}
+
 void Solver::advanceTo(double t_end, const std::function<void(const Solver&)>& on_step) {
   const auto t0 = std::chrono::steady_clock::now();
   while (time_ < t_end * (1.0 - 1e-14)) {
-    double dt = stableTimeStep();
-    if (last_dt_ > 0.0) dt = std::min(dt, 1.2 * last_dt_);
-    else dt *= opt_.initial_dt_fraction;
-    dt = std::min({dt, opt_.max_dt, t_end - time_});
-    if (!(dt >= opt_.min_dt) && t_end - time_ > opt_.min_dt) {
-      // name the cell that forces the step down
-      throw RunError(fmt::format("time step collapsed to {:g} s (limit {:g} s) at t = {:.6g} s, step {}; {}", dt, opt_.min_dt, time_, step_,
-                                 describeLimitingCell()));
-    }
-    step(dt);
+    step(nextTimeStep(t_end));
     if (on_step) on_step(*this);
   }
   stats_.wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

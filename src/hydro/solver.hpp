@@ -142,6 +142,11 @@ class Solver {
 
   // --- time stepping --------------------------------------------------------------------------
   double stableTimeStep() const;         // CFL step from the current state
+  // The one time-step controller (advanceTo and the run's loops use it): the CFL step, grown by at
+  // most 20% from the last step that was not cut short (a step cut to land on `stop`, an output
+  // time, does not restart the growth), the first one initial_dt_fraction of it; at most max_dt
+  // and what is left to `stop`. Throws RunError naming the limiting cell when it falls below min_dt.
+  double nextTimeStep(double stop);
   // The cell that sets the time step, in words (indices, position, its materials' states): for
   // the message when the step collapses.
   std::string describeLimitingCell() const;
@@ -202,6 +207,7 @@ class Solver {
   EnergyLedger energy_;
   double time_ = 0.0;
   double last_dt_ = 0.0;
+  double dt_free_ = 0.0;                 // s, the last step the controller chose before any cut
   std::int64_t step_ = 0;
   RunStats stats_;
   bool any_strength_ = false;

@@ -46,7 +46,6 @@ struct DriverState {
   double next_history = 0.0;
   std::size_t next_profile = 0, next_field = 0;
   bool checkpoint_written = false;
-  double dt_free = 0.0;   // s, the last step before it was cut to land on an output time
 };
 
 void putList(std::ostream& os, const std::vector<double>& v) {
@@ -87,7 +86,7 @@ std::vector<std::vector<double>> getTable(std::istream& is) {
 }
 void putState(std::ostream& os, const DriverState& s) {
   putList(os, {s.plate_z, s.plate_v, s.impulse, s.peak_force, s.next_history, static_cast<double>(s.next_profile),
-               static_cast<double>(s.next_field), s.static_known ? 1.0 : 0.0, s.static_force, s.energy_initial, s.dt_free});
+               static_cast<double>(s.next_field), s.static_known ? 1.0 : 0.0, s.static_force, s.energy_initial});
   putList(os, s.impulse_kind);
   putTable(os, s.history);
   putTable(os, s.gauges);
@@ -99,9 +98,8 @@ void putState(std::ostream& os, const DriverState& s) {
 // three impulse kinds, one profile per profile time with a value per r column (`profile_columns`).
 void getState(std::istream& is, DriverState& s, std::size_t profile_columns) {
   const auto a = getList(is);
-  if (a.size() != 11) damagedCheckpoint();
+  if (a.size() != 10) damagedCheckpoint();
   s.energy_initial = a[9];
-  s.dt_free = a[10];
   s.static_known = a[7] != 0.0;
   s.static_force = a[8];
   s.plate_z = a[0];
@@ -378,10 +376,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     const double static_fine = cs.plate.present ? cs.symmetry * fs_.bodyLoad()[up] : 0.0;
     auto last = std::chrono::steady_clock::now();
     while (fs_.time() < plan->map_time_s * (1.0 - 1e-12)) {
-      double dt = fs_.stableTimeStep();
-      dt = fs_.lastDt() > 0.0 ? std::min(dt, 1.2 * fs_.lastDt()) : 0.1 * dt;
-      dt = std::min(dt, plan->map_time_s - fs_.time());
-      if (!(dt > 1e-15)) throw RunError(fmt::format("early time: time step collapsed to {:g} s at t = {:.6g} s; {}", dt, fs_.time(), fs_.describeLimitingCell()));
+      const double dt = fs_.nextTimeStep(plan->map_time_s);
       hydro::Vec3 vb{0.0, 0.0, 0.0};
       vb[up] = st.plate_v;
       fs_.setBodyVelocity(vb);
@@ -441,16 +436,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     if (st.next_profile < deck.output.profile_times_s.size()) stop = std::min(stop, deck.output.profile_times_s[st.next_profile]);
     if (st.next_field < deck.output.field_times_s.size()) stop = std::min(stop, deck.output.field_times_s[st.next_field]);
     if (opt.checkpoint_at_s > s.time()) stop = std::min(stop, opt.checkpoint_at_s);
-    // The step may grow by 20% a step from the last one before it was cut to land on an output
-    // time: a cut step (often 1e-3 of the stable one) does not restart the growth.
-    double dt_free = s.stableTimeStep();
-    const double grow_from = st.dt_free > 0.0 ? st.dt_free : s.lastDt();
-    if (grow_from > 0.0) dt_free = std::min(dt_free, 1.2 * grow_from);
-    else dt_free *= 0.1;
-    st.dt_free = dt_free;
-    double dt = std::min(dt_free, stop - s.time());
-    if (!(dt > 1e-15))
-      throw RunError(fmt::format("time step collapsed to {:g} s at t = {:.6g} s (step {}); {}", dt, s.time(), s.stats().steps, s.describeLimitingCell()));
+    const double dt = s.nextTimeStep(stop);
     hydro::Vec3 vb{0.0, 0.0, 0.0};
     vb[up] = st.plate_v;
     s.setBodyVelocity(vb);

@@ -10,15 +10,16 @@ source, folder = sys.argv[1], sys.argv[2]
 data = open(source, 'rb').read()
 head, payload = data[:32], data[44:]   # envelope: 32 bytes, u64 payload length, u32 CRC-32
 # The solver's part (Solver::writeCheckpoint): 80 bytes of scalars, then lists of one value per
-# cell (u64 count, doubles), then its energy ledger (3 doubles) and the body's offset (1 double).
+# cell (u64 count, doubles), then its energy ledger (3 doubles), the body's offset and the
+# controller's last uncut step (1 double each).
 cells = struct.unpack_from('<Q', payload, 8)[0]
 at = 80
 while struct.unpack_from('<Q', payload, at)[0] == cells:
     at += 8 + 8 * cells
-at += 32
+at += 40
 state = payload[at:]
-assert struct.unpack_from('<Q', state, 0)[0] == 11, 'the driver state starts with its 11 scalars'
-kinds = 8 + 8 * 11          # the impulse by kind (3 values) follows the scalars
+assert struct.unpack_from('<Q', state, 0)[0] == 10, 'the driver state starts with its 10 scalars'
+kinds = 8 + 8 * 10          # the impulse by kind (3 values) follows the scalars
 table = kinds + 8 + 8 * 3   # then the history table: its row count as a one-value list
 
 
