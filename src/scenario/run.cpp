@@ -25,6 +25,7 @@
 #include "io/checkpoint.hpp"
 #include "io/vtk.hpp"
 #include "hydro/rezone.hpp"
+#include "coupling/target.hpp"
 #include "scenario/case.hpp"
 
 namespace ejecta::scenario {
@@ -34,11 +35,7 @@ namespace fs = std::filesystem;
 // Everything the driver accumulates, so that a checkpoint holds it and a restart continues it.
 struct DriverState {
   double energy_initial = 0.0;   // J in the cells at t = 0 (axisymmetric: per radian)
-  double plate_z = 0.0, plate_v = 0.0;
-  double impulse = 0.0, peak_force = 0.0;
-  bool static_known = false;
-  double static_force = 0.0;   // N, the load on the target at rest
-  std::vector<double> impulse_kind{0.0, 0.0, 0.0};   // air, products, soil
+  coupling::TargetState target;
   std::vector<std::vector<double>> history, gauges;
   std::vector<double> profile_times;
   std::vector<std::vector<double>> profiles;   // surface height per r column
@@ -85,9 +82,10 @@ std::vector<std::vector<double>> getTable(std::istream& is) {
   return t;
 }
 void putState(std::ostream& os, const DriverState& s) {
-  putList(os, {s.plate_z, s.plate_v, s.impulse, s.peak_force, s.next_history, static_cast<double>(s.next_profile),
-               static_cast<double>(s.next_field), s.static_known ? 1.0 : 0.0, s.static_force, s.energy_initial});
-  putList(os, s.impulse_kind);
+  const auto& t = s.target;
+  putList(os, {t.z, t.v, t.impulse, t.peak_force, s.next_history, static_cast<double>(s.next_profile), static_cast<double>(s.next_field),
+               t.static_known ? 1.0 : 0.0, t.static_force, s.energy_initial});
+  putList(os, t.impulse_kind);
   putTable(os, s.history);
   putTable(os, s.gauges);
   putList(os, s.profile_times);
@@ -100,16 +98,17 @@ void getState(std::istream& is, DriverState& s, std::size_t profile_columns) {
   const auto a = getList(is);
   if (a.size() != 10) damagedCheckpoint();
   s.energy_initial = a[9];
-  s.static_known = a[7] != 0.0;
-  s.static_force = a[8];
-  s.plate_z = a[0];
-  s.plate_v = a[1];
-  s.impulse = a[2];
-  s.peak_force = a[3];
+  auto& t = s.target;
+  t.static_known = a[7] != 0.0;
+  t.static_force = a[8];
+  t.z = a[0];
+  t.v = a[1];
+  t.impulse = a[2];
+  t.peak_force = a[3];
   s.next_history = a[4];
   s.next_profile = countOf(a[5]);
   s.next_field = countOf(a[6]);
-  s.impulse_kind = getList(is);
+  t.impulse_kind = getList(is);
   s.history = getTable(is);
   s.gauges = getTable(is);
   s.profile_times = getList(is);
@@ -117,7 +116,7 @@ void getState(std::istream& is, DriverState& s, std::size_t profile_columns) {
   s.field_times = getList(is);
   const bool profiles_fit = s.profiles.size() == s.profile_times.size() &&
                             std::all_of(s.profiles.begin(), s.profiles.end(), [&](const auto& p) { return p.size() == profile_columns; });
-  if (s.impulse_kind.size() != 3 || !profiles_fit) damagedCheckpoint();
+  if (t.impulse_kind.size() != 3 || !profiles_fit) damagedCheckpoint();
 }
 
 // What ties a checkpoint to its deck and build. The deck digest leaves out end_time_s and the
@@ -262,7 +261,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   const auto& g = s.grid();
   const auto up = static_cast<std::size_t>(cs.vertical);
   DriverState st;
-  st.plate_z = cs.plate.z_bottom_m;
+  st.target.z = cs.plate.z_bottom_m;
   st.energy_initial = s.totals().total();
   const double static_run = cs.plate.present ? cs.symmetry * s.bodyLoad()[up] : 0.0;   // N, the load at rest
   // A free target carries the mesh between the uniform core's bottom and the domain's top with it.
@@ -290,40 +289,24 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     }
   }
 
-  const bool free_plate = cs.plate.present && deck.target.motion == "free";
-  const double g_acc = deck.gravity ? 9.81 : 0.0;
+  const coupling::Target target(cs.plate.present, deck.target.motion == "free", deck.target.mass_kg, deck.gravity ? 9.81 : 0.0, cs.symmetry,
+                                cs.vertical, cs.material_kind);
   const auto t_wall0 = std::chrono::steady_clock::now();
   auto last_progress = t_wall0;
   const double t_end = deck.end_time_s;
-  const std::size_t nmat = static_cast<std::size_t>(s.materialCount());
-  auto kindIndex = [&](std::size_t k) { const auto& kind = cs.material_kind[k]; return kind == "air" ? 0 : (kind == "products" ? 1 : 2); };
   const double h_interval = deck.output.history_interval_s;
-  // What one step of `solver` gave the target, net of the load at rest, per material kind; and
-  // the free plate's motion. The early time's fine run and the run itself book it alike.
-  auto bookTargetLoad = [&](const hydro::Solver& solver, double static_force, double dt) {
-    const double iz = cs.symmetry * solver.lastBodyImpulse()[up] - static_force * dt;
-    st.impulse += iz;
-    if (cs.plate.present)
-      for (std::size_t k = 0; k < nmat; ++k) st.impulse_kind[static_cast<std::size_t>(kindIndex(k))] += cs.symmetry * solver.lastBodyImpulseByMaterial()[k][up];
-    st.impulse_kind[0] -= static_force * dt;   // the static load is the air's
-    st.peak_force = std::max(st.peak_force, std::abs(iz / dt));
-    if (free_plate) {
-      st.plate_v += iz / deck.target.mass_kg - g_acc * dt;
-      st.plate_z += st.plate_v * dt;
-    }
-  };
-
+  auto& ts = st.target;
   // history.csv: each column declared once, with what fills it (SI units in the names)
   std::vector<double> prof;   // the soil surface at the sample being recorded
   const std::vector<std::pair<const char*, std::function<double()>>> history_columns{
       {"t_s", [&] { return s.time(); }},
-      {"impulse_Ns", [&] { return st.impulse; }},
-      {"force_N", [&] { return s.lastDt() > 0.0 ? cs.symmetry * s.lastBodyImpulse()[up] / s.lastDt() - st.static_force : 0.0; }},
-      {"plate_velocity_m_s", [&] { return st.plate_v; }},
-      {"plate_displacement_m", [&] { return st.plate_z - cs.plate.z_bottom_m; }},
-      {"impulse_air_Ns", [&] { return st.impulse_kind[0]; }},
-      {"impulse_products_Ns", [&] { return st.impulse_kind[1]; }},
-      {"impulse_soil_Ns", [&] { return st.impulse_kind[2]; }},
+      {"impulse_Ns", [&] { return ts.impulse; }},
+      {"force_N", [&] { return target.lastForce(s, ts); }},
+      {"plate_velocity_m_s", [&] { return ts.v; }},
+      {"plate_displacement_m", [&] { return ts.z - cs.plate.z_bottom_m; }},
+      {"impulse_air_Ns", [&] { return ts.impulse_kind[0]; }},
+      {"impulse_products_Ns", [&] { return ts.impulse_kind[1]; }},
+      {"impulse_soil_Ns", [&] { return ts.impulse_kind[2]; }},
       {"bubble_height_on_axis_m", [&] { return prof.empty() ? 0.0 : prof[0]; }},
       {"soil_top_m", [&] {   // the highest soil anywhere: the top of the bubble or the ejecta cloud
          double top = std::nan("");
@@ -377,11 +360,9 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     auto last = std::chrono::steady_clock::now();
     while (fs_.time() < plan->map_time_s * (1.0 - 1e-12)) {
       const double dt = fs_.nextTimeStep(plan->map_time_s);
-      hydro::Vec3 vb{0.0, 0.0, 0.0};
-      vb[up] = st.plate_v;
-      fs_.setBodyVelocity(vb);
+      fs_.setBodyVelocity(target.wallVelocity(ts));
       fs_.step(dt);
-      bookTargetLoad(fs_, static_fine, dt);
+      target.bookStep(fs_, static_fine, dt, ts);
       const auto now = std::chrono::steady_clock::now();
       if (opt.progress && std::chrono::duration<double>(now - last).count() > 2.0) {
         last = now;
@@ -437,18 +418,16 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     if (st.next_field < deck.output.field_times_s.size()) stop = std::min(stop, deck.output.field_times_s[st.next_field]);
     if (opt.checkpoint_at_s > s.time()) stop = std::min(stop, opt.checkpoint_at_s);
     const double dt = s.nextTimeStep(stop);
-    hydro::Vec3 vb{0.0, 0.0, 0.0};
-    vb[up] = st.plate_v;
-    s.setBodyVelocity(vb);
+    s.setBodyVelocity(target.wallVelocity(ts));
     s.step(dt);
     // The target: what the blast gives it, per material kind. The load at rest (ambient air on the
     // plate's top against sand at zero effective pressure below; in the test the supports carry
     // it) is measured on the first step, before any wave arrives, and taken off.
-    if (!st.static_known) {   // measured on the run mesh at rest (before the early time, if any)
-      st.static_force = static_run;
-      st.static_known = true;
+    if (!ts.static_known) {   // measured on the run mesh at rest (before the early time, if any)
+      ts.static_force = static_run;
+      ts.static_known = true;
     }
-    bookTargetLoad(s, st.static_force, dt);
+    target.bookStep(s, ts.static_force, dt, ts);
     const double t = s.time();
     if (t >= st.next_history + h_interval * (1.0 - 1e-9) || t >= t_end * (1.0 - 1e-12)) {
       st.next_history = t;
@@ -477,19 +456,19 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
       const double wall = std::chrono::duration<double>(now - t_wall0).count();
       const double left = t > 0.0 ? wall * (t_end - t) / std::max(t - (opt.restart.empty() ? 0.0 : 0.0), 1e-30) : 0.0;
       std::fprintf(stderr, "t = %.4g ms / %.4g ms, step %lld, dt %.3g s, %zu cells, wall %.1f s, left ~%.0f s, impulse %.1f N s\n", t * 1e3,
-                   t_end * 1e3, static_cast<long long>(s.stats().steps), dt, g.interiorCells(), wall, left, st.impulse);
+                   t_end * 1e3, static_cast<long long>(s.stats().steps), dt, g.interiorCells(), wall, left, ts.impulse);
     }
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_wall0).count();
 
   RunResult res;
-  res.impulse_Ns = st.impulse;
-  res.impulse_air_Ns = st.impulse_kind[0];
-  res.impulse_products_Ns = st.impulse_kind[1];
-  res.impulse_soil_Ns = st.impulse_kind[2];
-  res.peak_force_N = st.peak_force;
-  res.final_velocity_m_s = st.plate_v;
-  res.displacement_m = st.plate_z - cs.plate.z_bottom_m;
+  res.impulse_Ns = ts.impulse;
+  res.impulse_air_Ns = ts.impulse_kind[0];
+  res.impulse_products_Ns = ts.impulse_kind[1];
+  res.impulse_soil_Ns = ts.impulse_kind[2];
+  res.peak_force_N = ts.peak_force;
+  res.final_velocity_m_s = ts.v;
+  res.displacement_m = ts.z - cs.plate.z_bottom_m;
   res.steps = s.stats().steps;
   res.cells = g.interiorCells();
   res.wall_s = wall;
@@ -533,7 +512,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   sum["deck"] = deck.echo;
   sum["units"] = "SI: N s, N, m/s, m, s";
   sum["geometry"] = deck.geometry;
-  sum["static_load_N"] = st.static_force;
+  sum["static_load_N"] = ts.static_force;
   sum["note"] = "impulse and force are the blast's: the load at rest (static_load_N) is taken off";
   sum["result"] = {{"impulse_Ns", res.impulse_Ns},
                    {"impulse_by_material_Ns", {{"air", res.impulse_air_Ns}, {"products", res.impulse_products_Ns}, {"soil", res.impulse_soil_Ns}}},
@@ -544,6 +523,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   {
     // The energy books: nothing enters or leaves but through the boundaries, the target and
     // gravity, so final = initial + inflow - work on the target + gravity's work, to round-off.
+    const std::size_t nmat = static_cast<std::size_t>(s.materialCount());
     double e_charge = 0.0;
     for (std::size_t k = 0; k < nmat; ++k)
       if (cs.material_kind[k] == "products") e_charge = deck.charge.mass_kg * s.materials()[k].jwl.e0 / s.materials()[k].jwl.rho0;
