@@ -551,6 +551,16 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
                      {"note", "final = initial - boundary_flux (net outflow) - work_on_target + gravity_work; imbalance_fraction is over the charge's energy"}};
     res.energy_imbalance_fraction = sum["energy"]["imbalance_fraction"].get<double>();
   }
+  {
+    // Global totals at the end, for the regression tier (tests/regression) and conservation checks:
+    // each material's mass (what left through the outflow boundaries is gone) and the flow's
+    // momentum along the vertical (the other components cancel by symmetry), for the whole charge.
+    const auto tot = s.totals();
+    nlohmann::json mats = nlohmann::json::array();
+    for (std::size_t k = 0; k < nmat; ++k)
+      mats.push_back({{"name", s.materials()[k].name}, {"kind", cs.material_kind[k]}, {"mass_kg", cs.symmetry * tot.mass[k]}});
+    sum["totals"] = {{"materials", mats}, {"flow_momentum_vertical_Ns", cs.symmetry * tot.momentum[up]}};
+  }
   sum["early_time"] = early_json;
   sum["charge"] = {{"radius_m", cs.charge.radius_m}, {"height_m", cs.charge.height_m}, {"z_top_m", cs.charge.z_top_m},
                    {"z_bottom_m", cs.charge.z_bottom_m}, {"detonation_z_m", cs.charge.detonation_m[1]}};

@@ -823,7 +823,7 @@ void tntFreeAir(const std::vector<double>& cells_mm, Report& rep) {
     const double err = std::abs(peaks.back()[q] - ref[q]) / ref[q];
     rep.rows.push_back({fmt::format("tnt-free-air@{:g}m", gauges[q]), "1D spherical",
                         fmt::format("|dp_peak - dp_KG| / dp_KG (Kinney & Graham 1985: {:.4g} kPa), {:g} mm cells", 1e-3 * ref[q], cells_mm.back()),
-                        rep.rows.back().resolution, cells, err, kNaN, kNaN, 0.0, fmt::format("within {:g}% of the curve", 100.0 * kCurveLimit),
+                        rep.rows.back().resolution, cells, err, kNaN, kNaN, 0.0, fmt::format("within {:g}% of the curve (the published curves' spread)", 100.0 * kCurveLimit),
                         err <= kCurveLimit});
   }
   if (peaks.size() >= 2) {
@@ -834,7 +834,7 @@ void tntFreeAir(const std::vector<double>& cells_mm, Report& rep) {
     rep.rows.push_back({"tnt-free-air-converged", "1D spherical",
                         fmt::format("max over the gauges of |dp({:g} mm) - dp({:g} mm)| / dp({:g} mm)", cells_mm[cells_mm.size() - 2], cells_mm.back(),
                                     cells_mm.back()),
-                        rep.rows.back().resolution, cells, moved, kNaN, kNaN, 0.0, fmt::format("<= {:g}% (converged)", 100.0 * kConvergedLimit),
+                        rep.rows.back().resolution, cells, moved, kNaN, kNaN, 0.0, fmt::format("<= {:g}% between the two finest levels (converged)", 100.0 * kConvergedLimit),
                         moved <= kConvergedLimit});
   }
 }
