@@ -520,10 +520,10 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
                    {"final_plate_velocity_m_s", res.final_velocity_m_s},
                    {"plate_displacement_m", res.displacement_m},
                    {"end_time_s", s.time()}};
+  const std::size_t nmat = static_cast<std::size_t>(s.materialCount());
   {
     // The energy books: nothing enters or leaves but through the boundaries, the target and
     // gravity, so final = initial + inflow - work on the target + gravity's work, to round-off.
-    const std::size_t nmat = static_cast<std::size_t>(s.materialCount());
     double e_charge = 0.0;
     for (std::size_t k = 0; k < nmat; ++k)
       if (cs.material_kind[k] == "products") e_charge = deck.charge.mass_kg * s.materials()[k].jwl.e0 / s.materials()[k].jwl.rho0;
