@@ -81,10 +81,25 @@ std::vector<std::vector<double>> getTable(std::istream& is) {
   for (std::size_t i = 0, rows = countOf(n[0]); i < rows; ++i) t.push_back(getList(is));
   return t;
 }
+// The driver's scalars by name (a JSON object), so that the checkpoint says what each one is; its
+// lists and tables follow as binary lists.
+constexpr std::uint64_t kMaxStateText = 1u << 16;
 void putState(std::ostream& os, const DriverState& s) {
   const auto& t = s.target;
-  putList(os, {t.z, t.v, t.impulse, t.peak_force, s.next_history, static_cast<double>(s.next_profile), static_cast<double>(s.next_field),
-               t.static_known ? 1.0 : 0.0, t.static_force, s.energy_initial});
+  const std::string scalars = nlohmann::json{{"target_z_m", t.z},
+                                             {"target_velocity_m_s", t.v},
+                                             {"impulse_Ns", t.impulse},
+                                             {"peak_force_N", t.peak_force},
+                                             {"static_known", t.static_known},
+                                             {"static_force_N", t.static_force},
+                                             {"energy_initial_J", s.energy_initial},
+                                             {"next_history_s", s.next_history},
+                                             {"next_profile", s.next_profile},
+                                             {"next_field", s.next_field}}
+                                  .dump(-1, ' ', false, nlohmann::json::error_handler_t::strict);
+  const std::uint64_t n = scalars.size();
+  os.write(reinterpret_cast<const char*>(&n), sizeof n);
+  os.write(scalars.data(), static_cast<std::streamsize>(n));
   putList(os, t.impulse_kind);
   putTable(os, s.history);
   putTable(os, s.gauges);
@@ -92,22 +107,38 @@ void putState(std::ostream& os, const DriverState& s) {
   putTable(os, s.profiles);
   putList(os, s.field_times);
 }
-// Reads what putState wrote; refused unless what the run indexes without further checks fits it:
-// three impulse kinds, one profile per profile time with a value per r column (`profile_columns`).
+// Reads what putState wrote; refused unless every named scalar is there with its type and what the
+// run indexes without further checks fits it: three impulse kinds, one profile per profile time
+// with a value per r column (`profile_columns`).
 void getState(std::istream& is, DriverState& s, std::size_t profile_columns) {
-  const auto a = getList(is);
-  if (a.size() != 10) damagedCheckpoint();
-  s.energy_initial = a[9];
+  std::uint64_t n = 0;
+  is.read(reinterpret_cast<char*>(&n), sizeof n);
+  if (!is || n > kMaxStateText) damagedCheckpoint();
+  std::string text(static_cast<std::size_t>(n), '\0');
+  is.read(text.data(), static_cast<std::streamsize>(n));
+  if (!is) damagedCheckpoint();
   auto& t = s.target;
-  t.static_known = a[7] != 0.0;
-  t.static_force = a[8];
-  t.z = a[0];
-  t.v = a[1];
-  t.impulse = a[2];
-  t.peak_force = a[3];
-  s.next_history = a[4];
-  s.next_profile = countOf(a[5]);
-  s.next_field = countOf(a[6]);
+  try {
+    const auto j = nlohmann::json::parse(text);
+    auto number = [&](const char* key) {
+      const auto& v = j.at(key);
+      if (!v.is_number() || !std::isfinite(v.get<double>())) damagedCheckpoint();
+      return v.get<double>();
+    };
+    t.z = number("target_z_m");
+    t.v = number("target_velocity_m_s");
+    t.impulse = number("impulse_Ns");
+    t.peak_force = number("peak_force_N");
+    t.static_force = number("static_force_N");
+    if (!j.at("static_known").is_boolean()) damagedCheckpoint();
+    t.static_known = j.at("static_known").get<bool>();
+    s.energy_initial = number("energy_initial_J");
+    s.next_history = number("next_history_s");
+    s.next_profile = countOf(number("next_profile"));
+    s.next_field = countOf(number("next_field"));
+  } catch (const nlohmann::json::exception&) {
+    damagedCheckpoint();
+  }
   t.impulse_kind = getList(is);
   s.history = getTable(is);
   s.gauges = getTable(is);

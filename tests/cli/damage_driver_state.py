@@ -2,6 +2,7 @@
 """Writes damaged copies of a checkpoint whose envelope is still valid (length and CRC-32 right):
 only the driver's state (src/scenario/run.cpp, putState) is changed, the part the envelope's and
 the solver's checks do not see. Usage: damage_driver_state.py CHECKPOINT FOLDER"""
+import json
 import struct
 import sys
 import zlib
@@ -18,8 +19,11 @@ while struct.unpack_from('<Q', payload, at)[0] == cells:
     at += 8 + 8 * cells
 at += 40
 state = payload[at:]
-assert struct.unpack_from('<Q', state, 0)[0] == 10, 'the driver state starts with its 10 scalars'
-kinds = 8 + 8 * 10          # the impulse by kind (3 values) follows the scalars
+# The driver state starts with its scalars by name: a u64 length and a JSON object.
+n = struct.unpack_from('<Q', state, 0)[0]
+scalars = json.loads(state[8:8 + n])
+assert 'next_profile' in scalars and 'target_z_m' in scalars, 'the driver state starts with its named scalars'
+kinds = 8 + n               # the impulse by kind (3 values) follows the scalars
 table = kinds + 8 + 8 * 3   # then the history table: its row count as a one-value list
 
 
@@ -29,13 +33,18 @@ def write(name, damaged):
         f.write(head + struct.pack('<QI', len(p), zlib.crc32(p)) + p)
 
 
-def scalar(index, value):
-    s = bytearray(state)
-    struct.pack_into('<d', s, 8 + 8 * index, value)
-    return bytes(s)
+def scalars_with(**changes):
+    """The state with some named scalars replaced (text: written as given, so it may be invalid JSON)."""
+    d = dict(scalars)
+    d.update(changes)
+    text = ', '.join(f'"{k}": {v if isinstance(v, str) else json.dumps(v)}' for k, v in d.items())
+    text = ('{' + text + '}').encode()
+    return struct.pack('<Q', len(text)) + text + state[8 + n:]
 
 
-write('nan-index', scalar(5, float('nan')))                      # next profile index
+write('nan-index', scalars_with(next_profile='NaN'))             # not JSON at all
+write('negative-index', scalars_with(next_profile=-1))           # a count that is no count
+write('missing-scalar', struct.pack('<Q', 2) + b'{}' + state[8 + n:])
 write('short-kinds', state[:kinds] + struct.pack('<Qd', 1, 0.0) + state[table:])
 write('empty-row-count', state[:table] + struct.pack('<Q', 0) + state[table + 16:])
 negative = bytearray(state)
