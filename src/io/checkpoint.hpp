@@ -9,7 +9,7 @@
 
 namespace ejecta::io {
 
-inline constexpr std::uint32_t kCheckpointFormat = 2;
+inline constexpr std::uint32_t kCheckpointFormat = 3;   // 3: the moving mesh and time-step state, named driver scalars
 
 struct CheckpointHeader {
   std::uint32_t format = kCheckpointFormat;
