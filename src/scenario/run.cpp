@@ -664,6 +664,11 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
     }
   const fs::path stage = parent / (prefix + std::to_string(static_cast<long>(::getpid())));
   fs::remove_all(stage, ec);
+  // A folder that cannot be made is bad input (exit 2), said in words, before the run starts.
+  ec.clear();
+  fs::create_directories(parent, ec);
+  if (!ec) fs::create_directory(stage, ec);
+  if (ec) throw InputError("out", fmt::format("cannot create the run folder '{}': {}", opt.out_dir, ec.message()));
   RunResult res;
   try {
     res = runStaged(deck, opt, stage);

@@ -96,6 +96,9 @@ for f in bad/*.bin; do
 done
 "$ejecta" run "${common[@]}" --restart a/checkpoint.bin --set end_time_s=0.0007 --set 'output.field_times_s=[0.00065]' --out e --no-plot > /dev/null 2> e.err
 check "restart running longer with other outputs is allowed ($(tail -1 e.err))" "[[ $? -eq 0 ]]"
+touch plainfile
+err=$("$ejecta" run "${common[@]}" --out plainfile/run 2>&1 >/dev/null)
+check "a run folder that cannot be made: exit 2 naming --out, in words" "[[ $? -eq 2 ]] && grep -q 'out: cannot create the run folder' <<< \"\$err\" && ! grep -q 'filesystem error' <<< \"\$err\""
 err=$("$ejecta" run emi-flat-7 --cell-size '' --out c 2>&1 >/dev/null)
 check "an empty option value: exit 2 naming the option" "[[ $? -eq 2 ]] && grep -q -- '--cell-size' <<< \"\$err\""
 err=$("$ejecta" run emi-flat-7 --threads= --out c 2>&1 >/dev/null)
