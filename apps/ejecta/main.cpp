@@ -1,4 +1,5 @@
 // ejecta: buried-charge loading of vehicle underbodies. One program, several sub-commands.
+#include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -43,6 +44,11 @@ int main(int argc, char** argv) {
   } catch (const ejecta::RunError& e) {
     std::cerr << "ejecta: run stopped: " << e.what() << '\n';
     return 3;
+  } catch (const std::filesystem::filesystem_error& e) {
+    // an output path the user named that cannot be made or written (a file where a folder must be,
+    // no permission): said in words, naming the path, as bad input
+    std::cerr << "ejecta: error: " << e.path1().string() << ": " << e.code().message() << '\n';
+    return 2;
   } catch (const std::exception& e) {
     std::cerr << "ejecta: failed: " << e.what() << '\n';
     return 1;

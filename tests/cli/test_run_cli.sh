@@ -99,6 +99,8 @@ check "restart running longer with other outputs is allowed ($(tail -1 e.err))" 
 touch plainfile
 err=$("$ejecta" run "${common[@]}" --out plainfile/run 2>&1 >/dev/null)
 check "a run folder that cannot be made: exit 2 naming --out, in words" "[[ $? -eq 2 ]] && grep -q 'out: cannot create the run folder' <<< \"\$err\" && ! grep -q 'filesystem error' <<< \"\$err\""
+err=$("$ejecta" sweep emi-flat-7 --vary cfl=0.4 --out plainfile/sweep 2>&1 >/dev/null)
+check "sweep into a folder that cannot be made: exit 2, the path in words" "[[ $? -eq 2 ]] && grep -q 'plainfile/sweep: Not a directory' <<< \"\$err\""
 err=$("$ejecta" run emi-flat-7 --cell-size '' --out c 2>&1 >/dev/null)
 check "an empty option value: exit 2 naming the option" "[[ $? -eq 2 ]] && grep -q -- '--cell-size' <<< \"\$err\""
 err=$("$ejecta" run emi-flat-7 --threads= --out c 2>&1 >/dev/null)
