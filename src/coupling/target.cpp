@@ -19,8 +19,8 @@ void Target::bookStep(const hydro::Solver& solver, double static_force, double d
   st.impulse_kind[0] -= static_force * dt;   // the load at rest is the air's
   st.peak_force = std::max(st.peak_force, std::abs(iz / dt));
   if (free_) {
+    st.z += st.v * dt;   // the velocity the walls (and the moving mesh) had in this step
     st.v += iz / mass_ - gravity_ * dt;
-    st.z += st.v * dt;
   }
 }
 

@@ -120,6 +120,7 @@ void solveFaces(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
           const std::size_t fluid = body_right ? L : R;
           const double sign = body_right ? 1.0 : -1.0;
           ledger.target_work += sign * ps * P.area[sf] * dt * wall_u;
+          ledger.impulse_total[S.d] += sign * ps * P.area[sf] * dt;
           // by material against the ambient (reference) pressure: the air's share is then what the
           // blast adds to the air's push, not the atmosphere on the plate's top; over the closed
           // body the reference sums to zero, so the total is the load itself
@@ -362,6 +363,7 @@ void lagrangeUpdate(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
         E -= w_body;
         if (interior) {
           ledger.target_work += w_body;
+          ledger.impulse_total[comp] += taken;
           for (int k = 0; k < M; ++k) ledger.impulse_on_body[k][comp] += taken * P.a[P.at(k, i)];
         }
       }

@@ -123,7 +123,7 @@ void Solver::setBody(const std::function<bool(const Vec3&)>& inside) {
 
 void Solver::moveMeshWithBody(int axis, double anchor_below, double anchor_above) {
   if (body_.empty()) throw InputError("target", "the mesh moves with a body: set the body first");
-  if (axis < 0 || axis >= grid_.dims() || (axis == 0 && grid_.axisymmetric()))
+  if (axis < 0 || axis >= grid_.dims() || (axis == 0 && grid_.curvilinear()))
     throw InputError("target", "the body moves the mesh along z (axisymmetric) or any Cartesian axis");
   int lo = grid_.cells(axis), hi = -1;
   for (std::size_t c = 0; c < body_.size(); ++c) {
@@ -798,12 +798,12 @@ void Solver::sweep(int d, double dt) {
     energy_.boundary_in += l.boundary_in;
     energy_.target_work += l.target_work;
     energy_.gravity_work += l.gravity_work;
-    for (int k = 0; k < M; ++k) {
-      for (std::size_t q = 0; q < 3; ++q) {
-        body_impulse_[q] += l.impulse_on_body[k][q];
-        if (!body_impulse_mat_.empty()) body_impulse_mat_[static_cast<std::size_t>(k)][q] += l.impulse_on_body[k][q];
-      }
-    }
+    // the total from the stress itself: the by-material split is against the reference pressure,
+    // which cancels over the plate's top and bottom but not over a rim or a symmetry-plane cut
+    for (std::size_t q = 0; q < 3; ++q) body_impulse_[q] += l.impulse_total[q];
+    if (!body_impulse_mat_.empty())
+      for (int k = 0; k < M; ++k)
+        for (std::size_t q = 0; q < 3; ++q) body_impulse_mat_[static_cast<std::size_t>(k)][q] += l.impulse_on_body[k][q];
   }
   if (bad_cell != std::numeric_limits<std::size_t>::max()) checkCell(bad_cell, d == 0 ? "sweep along axis 0" : (d == 1 ? "sweep along axis 1" : "sweep along axis 2"));
 }

@@ -120,7 +120,7 @@ void Grid::axisGeometry(int d) {
 void Grid::moveFaces(int d, Axis moved) {
   if (d < 0 || d >= dims_ || moved.cells() != n_[static_cast<std::size_t>(d)])
     throw InputError("mesh", "a moved axis must keep its number of cells");
-  if (d == 0 && axisymmetric()) throw InputError("mesh", "the radial axis of an axisymmetric mesh does not move");
+  if (d == 0 && curvilinear()) throw InputError("mesh", "the radial axis of an axisymmetric or spherical mesh does not move");
   axes_[static_cast<std::size_t>(d)] = std::move(moved);
   axisGeometry(d);
 }
