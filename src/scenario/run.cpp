@@ -451,9 +451,9 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     const double dt = s.nextTimeStep(stop);
     s.setBodyVelocity(target.wallVelocity(ts));
     s.step(dt);
-    // The target: what the blast gives it, per material kind. The load at rest (ambient air on the
-    // plate's top against sand at zero effective pressure below; in the test the supports carry
-    // it) is measured on the first step, before any wave arrives, and taken off.
+    // The target: what the blast gives it, per material kind. The load at rest (about zero now that
+    // the sand carries the pore air's pressure; in the test the supports carry whatever is left) is
+    // measured before any wave arrives and taken off.
     if (!ts.static_known) {   // measured on the run mesh at rest (before the early time, if any)
       ts.static_force = static_run;
       ts.static_known = true;
