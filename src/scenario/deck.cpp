@@ -4,7 +4,6 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
-#include <map>
 #include <set>
 #include <variant>
 
@@ -206,7 +205,7 @@ const toml::table* sectionTable(const toml::table& root, const std::string& sect
 }
 
 // Reads one key's TOML value into the deck, by its type.
-void readValue(const toml::node& n, const Key& k, FieldRef f, const std::string& path) {
+void readValue(const toml::node& n, FieldRef f, const std::string& path) {
   std::visit(
       [&](auto* v) {
         using T = std::remove_pointer_t<decltype(v)>;
@@ -243,7 +242,6 @@ void readValue(const toml::node& n, const Key& k, FieldRef f, const std::string&
         }
       },
       f);
-  (void)k;
 }
 
 // The key's own range and choices.
@@ -558,7 +556,7 @@ Deck parseDeck(const std::string& text, const std::vector<std::string>& override
       const toml::table* t = k.section.empty() ? &root : (k.section == "soil" ? layers[i] : sectionTable(root, k.section));
       if (!t) continue;
       const std::string path = keyPath(k, i);
-      if (const auto* node = t->get(k.name)) readValue(*node, k, k.field(d, i), path);
+      if (const auto* node = t->get(k.name)) readValue(*node, k.field(d, i), path);
     }
   }
   // every key's own range, defaults included, then what depends on other keys
