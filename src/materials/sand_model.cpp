@@ -14,17 +14,9 @@ namespace {
 constexpr double kWaterDensity = 1000.0;   // kg/m3, for the volume of the pore water (verified)
 constexpr double kWaterHeatCapacity = 4180.0;   // J/(kg K), for the energy term's weights (recalled handbook value)
 
-void requireFinite(const char* field, double v) {
-  if (!std::isfinite(v)) throw InputError(field, "must be a finite number");
-}
-void requireRange(const char* field, double v, double lo, double hi, const char* unit, bool lo_open,
-                  bool hi_open) {
-  requireFinite(field, v);
-  const bool bad_lo = lo_open ? !(v > lo) : !(v >= lo);
-  const bool bad_hi = hi_open ? !(v < hi) : !(v <= hi);
-  if (bad_lo || bad_hi)
-    throw InputError(field, fmt::format("{:g} {} is out of range; valid {}{:g}, {:g}{} {}", v, unit,
-                                        lo_open ? "(" : "[", lo, hi, hi_open ? ")" : "]", unit));
+// The model's own inputs, checked as the deck's are (core/range.hpp: one message, one rule).
+void requireRange(const char* field, double v, double lo, double hi, const char* unit, bool lo_open, bool hi_open) {
+  requireInRange(field, v, Range{lo, hi, lo_open, hi_open}, unit);
 }
 }  // namespace
 
