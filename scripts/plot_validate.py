@@ -34,13 +34,18 @@ def mesh(p):
     a2.grid(alpha=0.3)
     a2.legend(fontsize=8)
     # each material's share must converge too, not only the sum
-    for key, label, colour in (("impulse_products_Ns", "detonation products", "tab:red"), ("impulse_soil_Ns", "soil", "tab:olive")):
+    # by the cell beside the plate (dashed) and by the materials within 20 mm of it (solid, banded)
+    for key, label, colour, style, band in (("impulse_products_Ns", "products, cell beside the plate", "tab:red", "o--", False),
+                                            ("impulse_soil_Ns", "soil, cell beside the plate", "tab:olive", "o--", False),
+                                            ("within_products", "products, within 20 mm", "tab:red", "s-", True),
+                                            ("within_soil", "soil, within 20 mm", "tab:olive", "s-", True)):
         if key in p:
             v = p[key]
-            a3.plot(p["cell_mm"], v, "o-", color=colour, label=label)
-            fine = v[-3:] if len(v) >= 3 else v
-            mean = sum(fine) / len(fine)
-            a3.axhspan(0.95 * mean, 1.05 * mean, color=colour, alpha=0.12)
+            a3.plot(p["cell_mm"], v, style, color=colour, label=label)
+            if band or "within_products" not in p:
+                fine = v[-3:] if len(v) >= 3 else v
+                mean = sum(fine) / len(fine)
+                a3.axhspan(0.95 * mean, 1.05 * mean, color=colour, alpha=0.12)
     a3.set_xlabel("cell size (mm)")
     a3.set_ylabel("impulse by material at 10 ms (N s); band: mean of the finest three +/- 5%")
     a3.invert_xaxis()

@@ -14,9 +14,13 @@ void Target::bookStep(const hydro::Solver& solver, double static_force, double d
   const double iz = symmetry_ * solver.lastBodyImpulse()[up_] - static_force * dt;
   st.impulse += iz;
   if (present_)
-    for (std::size_t k = 0; k < kind_of_material_.size(); ++k)
+    for (std::size_t k = 0; k < kind_of_material_.size(); ++k) {
       st.impulse_kind[kind_of_material_[k]] += symmetry_ * solver.lastBodyImpulseByMaterial()[k][up_];
+      for (int l = 0; l < hydro::kNearWallDepths; ++l)
+        st.impulse_kind_near[3 * static_cast<std::size_t>(l) + kind_of_material_[k]] += symmetry_ * solver.lastBodyImpulseNearWall(l)[k][up_];
+    }
   st.impulse_kind[0] -= static_force * dt;   // the load at rest is the air's
+  for (int l = 0; l < hydro::kNearWallDepths; ++l) st.impulse_kind_near[3 * static_cast<std::size_t>(l)] -= static_force * dt;
   st.peak_force = std::max(st.peak_force, std::abs(iz / dt));
   if (free_) {
     st.z += st.v * dt;   // the velocity the walls (and the moving mesh) had in this step

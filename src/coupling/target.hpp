@@ -15,6 +15,8 @@ struct TargetState {
   double z = 0.0, v = 0.0;                     // m, m/s: its underside's height, its vertical velocity
   double impulse = 0.0, peak_force = 0.0;      // N s, N: the blast's, on the whole target
   std::vector<double> impulse_kind{0.0, 0.0, 0.0};   // N s by the material beside each face: air, products, soil
+  // N s by the materials within hydro::kNearWallDepth_m[l] of each face: [3 l + kind]
+  std::vector<double> impulse_kind_near = std::vector<double>(3 * hydro::kNearWallDepths, 0.0);
   bool static_known = false;
   double static_force = 0.0;                   // N, the load at rest (taken off the blast's)
 };

@@ -78,6 +78,39 @@ void shareHeat(int M, const double* mass, const double* loss, double heat, const
 
 // ------------------------------------------------------------------------------------------------
 
+void nearWallShares(const Pencil& P, const SweepSetup& S, int from, int step, double depth, double* share) {
+  const int M = P.M, lo = kGhost, hi = kGhost + P.n;
+  double total = 0.0, left = depth;
+  for (int k = 0; k < M; ++k) share[k] = 0.0;
+  for (int i = from; i >= lo && i < hi && !P.solid[static_cast<std::size_t>(i)]; i += step) {
+    const std::size_t si = static_cast<std::size_t>(i);
+    const double part = i == from ? 1.0 : std::min(1.0, left / S.width[si]);
+    if (!(part > 0.0)) break;
+    const double v = P.vol[si] * part;
+    for (int k = 0; k < M; ++k) share[k] += P.a[P.at(k, i)] * v;
+    total += v;
+    left -= S.width[si];
+  }
+  if (total > 0.0) {
+    for (int k = 0; k < M; ++k) share[k] /= total;
+  } else {   // a ghost cell beside the face (the boundary's): the cell's own fractions
+    for (int k = 0; k < M; ++k) share[k] = P.a[P.at(k, from)];
+  }
+}
+
+// Books a load `imp` (N s along `comp`) on the body at the face beside fluid cell `fluid`, the
+// body lying `step` = -1 (below) or +1 (above) along the pencil: by the material in the cell and by
+// the materials within each of kNearWallDepth_m.
+static void bookLoadByMaterial(const Pencil& P, const SweepSetup& S, int fluid, int step, std::size_t comp, double imp, PencilLedger& ledger) {
+  const int M = P.M;
+  for (int k = 0; k < M; ++k) ledger.impulse_on_body[k][comp] += imp * P.a[P.at(k, fluid)];
+  double share[kMaxMaterials];
+  for (int l = 0; l < kNearWallDepths; ++l) {
+    nearWallShares(P, S, fluid, -step, kNearWallDepth_m[static_cast<std::size_t>(l)], share);
+    for (int k = 0; k < M; ++k) ledger.impulse_near_body[l][k][comp] += imp * share[k];
+  }
+}
+
 void computeSlopes(Pencil& P, const SweepSetup& S) {
   const auto& un = P.u[static_cast<std::size_t>(S.d)];
   for (int i = 1; i < P.N - 1; ++i) {
@@ -125,7 +158,7 @@ void solveFaces(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
           // blast adds to the air's push, not the atmosphere on the plate's top; over the closed
           // body the reference sums to zero, so the total is the load itself
           const double imp = sign * (ps - S.load_reference) * P.area[sf] * dt;
-          for (int k = 0; k < P.M; ++k) ledger.impulse_on_body[k][S.d] += imp * P.a[P.at(k, static_cast<int>(fluid))];
+          bookLoadByMaterial(P, S, static_cast<int>(fluid), body_right ? 1 : -1, static_cast<std::size_t>(S.d), imp, ledger);
         }
       }
       continue;
@@ -364,7 +397,15 @@ void lagrangeUpdate(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
         if (interior) {
           ledger.target_work += w_body;
           ledger.impulse_total[comp] += taken;
-          for (int k = 0; k < M; ++k) ledger.impulse_on_body[k][comp] += taken * P.a[P.at(k, i)];
+          const bool one_side = !(P.solid[si - 1] && P.solid[si + 1]);
+          if (one_side) {
+            bookLoadByMaterial(P, S, i, P.solid[si + 1] ? 1 : -1, comp, taken, ledger);
+          } else {   // between two body faces: the cell itself at every depth
+            for (int k = 0; k < M; ++k) {
+              ledger.impulse_on_body[k][comp] += taken * P.a[P.at(k, i)];
+              for (int l = 0; l < kNearWallDepths; ++l) ledger.impulse_near_body[l][k][comp] += taken * P.a[P.at(k, i)];
+            }
+          }
         }
       }
     }

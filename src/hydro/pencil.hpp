@@ -15,6 +15,11 @@ namespace ejecta::hydro {
 inline constexpr double kAlphaMin = 1e-8;      // below this a material is a fragment: it rides along
 inline constexpr double kPureCell = 1.0 - 1e-9;
 inline constexpr int kMaxMaterials = 8;
+// The body's load is also split by the materials' volume within these distances of each wall face
+// (m), besides the material in the cell beside it: a film one cell thick is a different share of
+// the load at every cell size, a layer of fixed depth is not (docs/run.md, "The load by material").
+inline constexpr int kNearWallDepths = 3;
+inline constexpr std::array<double, kNearWallDepths> kNearWallDepth_m = {0.01, 0.02, 0.04};
 
 // Per-thread scratch of one pencil. Per-material arrays are [k * N + i] (cells) or
 // [k * (N + 1) + f] (faces); face f lies between cells f - 1 and f.
@@ -75,7 +80,15 @@ struct PencilLedger {
   double impulse_on_body[kMaxMaterials][3] = {};   // N s by material beside the face: the normal load
                                                    // (along d, against the reference pressure, which
                                                    // sums to zero over a closed body) and the friction
+  double impulse_near_body[kNearWallDepths][kMaxMaterials][3] = {};   // the same, by material within
+                                                                      // kNearWallDepth_m of the face
 };
+
+// Each material's share of the fluid within `depth` (m) of a wall face, from the fluid cell `from`
+// beside it walking away from the body by `step` (+1 or -1) over interior fluid cells: by volume,
+// the last cell by the part of its width inside the depth; at least the cell beside the face.
+// `share` sums to 1.
+void nearWallShares(const Pencil& P, const SweepSetup& S, int from, int step, double depth, double* share);
 
 // van Leer-limited slopes of the normal velocity and normal stress (first order beside a body).
 void computeSlopes(Pencil& P, const SweepSetup& S);

@@ -119,6 +119,7 @@ void Solver::setBody(const std::function<bool(const Vec3&)>& inside) {
     body_[c] = inside(x) ? 1 : 0;
   }
   body_impulse_mat_.assign(mats_.size(), Vec3{});
+  for (auto& v : body_impulse_near_) v.assign(mats_.size(), Vec3{});
 }
 
 void Solver::moveMeshWithBody(int axis, double anchor_below, double anchor_above) {
@@ -803,7 +804,11 @@ void Solver::sweep(int d, double dt) {
     for (std::size_t q = 0; q < 3; ++q) body_impulse_[q] += l.impulse_total[q];
     if (!body_impulse_mat_.empty())
       for (int k = 0; k < M; ++k)
-        for (std::size_t q = 0; q < 3; ++q) body_impulse_mat_[static_cast<std::size_t>(k)][q] += l.impulse_on_body[k][q];
+        for (std::size_t q = 0; q < 3; ++q) {
+          body_impulse_mat_[static_cast<std::size_t>(k)][q] += l.impulse_on_body[k][q];
+          for (int w = 0; w < kNearWallDepths; ++w)
+            body_impulse_near_[static_cast<std::size_t>(w)][static_cast<std::size_t>(k)][q] += l.impulse_near_body[w][k][q];
+        }
   }
   if (bad_cell != std::numeric_limits<std::size_t>::max()) checkCell(bad_cell, d == 0 ? "sweep along axis 0" : (d == 1 ? "sweep along axis 1" : "sweep along axis 2"));
 }
@@ -837,6 +842,8 @@ void Solver::step(double dt) {
   if (!(dt > 0.0) || !std::isfinite(dt)) throw RunError(fmt::format("invalid time step {:g} s at t = {:.6g} s", dt, time_));
   body_impulse_ = Vec3{};
   for (auto& v : body_impulse_mat_) v = Vec3{};
+  for (auto& layer : body_impulse_near_)
+    for (auto& v : layer) v = Vec3{};
   updateBurn(dt);
   updateStress(dt);
   const int dims = grid_.dims();

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "materials/material.hpp"
+#include "hydro/pencil.hpp"
 #include "mesh/grid.hpp"
 
 namespace ejecta::hydro {
@@ -135,6 +136,8 @@ class Solver {
   // same wall Riemann problem as a step's faces, without stepping (the load at rest, before any wave).
   Vec3 bodyLoad() const;
   const std::vector<Vec3>& lastBodyImpulseByMaterial() const { return body_impulse_mat_; }
+  // The same split by the materials' volume within kNearWallDepth_m[layer] of each face.
+  const std::vector<Vec3>& lastBodyImpulseNearWall(int layer) const { return body_impulse_near_[static_cast<std::size_t>(layer)]; }
 
   // --- checkpoints: the whole state, bit for bit ------------------------------------------------
   void writeCheckpoint(std::ostream& os) const;
@@ -200,6 +203,7 @@ class Solver {
   double body_offset_ = 0.0;             // m
   Vec3 body_impulse_{};
   std::vector<Vec3> body_impulse_mat_;
+  std::array<std::vector<Vec3>, kNearWallDepths> body_impulse_near_;
   std::vector<double> wlic_;             // per material and cell: share of the interface facing axis d
   std::vector<double> light_distance_;   // m, to the nearest detonation point (+inf without one)
   std::vector<double> light_delay_;      // s, that point's own lighting time

@@ -9,7 +9,7 @@
 
 namespace ejecta::io {
 
-inline constexpr std::uint32_t kCheckpointFormat = 3;   // 3: the moving mesh and time-step state, named driver scalars
+inline constexpr std::uint32_t kCheckpointFormat = 4;   // 3: the moving mesh and time-step state, named driver scalars; 4: the load split near the wall
 
 struct CheckpointHeader {
   std::uint32_t format = kCheckpointFormat;

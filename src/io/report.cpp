@@ -8,10 +8,11 @@ using nlohmann::json;
 
 std::string checkValue(const json& c) {
   const auto unit = c.at("unit").get<std::string>();
+  if (!c.at("value").is_number()) return "not recorded";
   return fmt::format("{:.2f}{}{}", c.at("value").get<double>(), unit == "%" ? "" : " ", unit);
 }
 std::string checkResult(const json& c) {
-  if (c.at("pass").is_null()) return "informative";
+  if (c.at("pass").is_null()) return c.at("value").is_number() ? "informative" : "not recorded (an earlier run)";
   return c.at("pass").get<bool>() ? "pass" : "FAIL";
 }
 
@@ -113,6 +114,8 @@ std::string renderReportMarkdown(const json& r) {
     s += "## " + sec.at("title").get<std::string>() + "\n\n";
     for (const auto& p : sec.at("paragraphs")) s += p.get<std::string>() + "\n\n";
     s += mdTable(sec.at("table"));
+    if (sec.contains("tables"))   // further tables of a section, after its main one
+      for (const auto& t : sec.at("tables")) s += mdTable(t);
     if (sec.contains("figure")) s += fmt::format("![{0}]({1})\n\n*{0}*\n\n", sec.at("caption").get<std::string>(), sec.at("figure").get<std::string>());
   }
   s += "## Every case\n\nReference and error: the measured values are not in shared/data (see above).\n\n" + mdTable(r.at("cases_table"));
@@ -132,6 +135,8 @@ std::string renderReportHtml(const json& r, const std::map<std::string, std::str
     s += "<h2>" + escapeHtml(sec.at("title").get<std::string>()) + "</h2>\n";
     for (const auto& p : sec.at("paragraphs")) s += "<p>" + escapeHtml(p.get<std::string>()) + "</p>\n";
     s += htmlTable(sec.at("table"));
+    if (sec.contains("tables"))
+      for (const auto& t : sec.at("tables")) s += htmlTable(t);
     if (sec.contains("figure")) {
       const auto it = figures.find(sec.at("figure").get<std::string>());
       if (it != figures.end())

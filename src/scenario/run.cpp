@@ -101,6 +101,7 @@ void putState(std::ostream& os, const DriverState& s) {
   os.write(reinterpret_cast<const char*>(&n), sizeof n);
   os.write(scalars.data(), static_cast<std::streamsize>(n));
   putList(os, t.impulse_kind);
+  putList(os, t.impulse_kind_near);
   putTable(os, s.history);
   putTable(os, s.gauges);
   putList(os, s.profile_times);
@@ -140,6 +141,7 @@ void getState(std::istream& is, DriverState& s, std::size_t profile_columns) {
     damagedCheckpoint();
   }
   t.impulse_kind = getList(is);
+  t.impulse_kind_near = getList(is);
   s.history = getTable(is);
   s.gauges = getTable(is);
   s.profile_times = getList(is);
@@ -147,7 +149,18 @@ void getState(std::istream& is, DriverState& s, std::size_t profile_columns) {
   s.field_times = getList(is);
   const bool profiles_fit = s.profiles.size() == s.profile_times.size() &&
                             std::all_of(s.profiles.begin(), s.profiles.end(), [&](const auto& p) { return p.size() == profile_columns; });
-  if (t.impulse_kind.size() != 3 || !profiles_fit) damagedCheckpoint();
+  if (t.impulse_kind.size() != 3 || t.impulse_kind_near.size() != 3 * hydro::kNearWallDepths || !profiles_fit) damagedCheckpoint();
+}
+
+// The load split by the materials within each of kNearWallDepth_m of the target.
+nlohmann::json nearWallJson(const std::vector<double>& near) {
+  nlohmann::json j{{"depth_m", hydro::kNearWallDepth_m}, {"air", nlohmann::json::array()}, {"products", nlohmann::json::array()}, {"soil", nlohmann::json::array()}};
+  for (std::size_t l = 0; l < hydro::kNearWallDepth_m.size(); ++l) {
+    j["air"].push_back(near.at(3 * l));
+    j["products"].push_back(near.at(3 * l + 1));
+    j["soil"].push_back(near.at(3 * l + 2));
+  }
+  return j;
 }
 
 // What ties a checkpoint to its deck and build. The deck digest leaves out end_time_s and the
@@ -329,6 +342,14 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   auto& ts = st.target;
   // history.csv: each column declared once, with what fills it (SI units in the names)
   std::vector<double> prof;   // the soil surface at the sample being recorded
+  hydro::Totals row_totals;   // the energy books at that sample
+  // J, the whole charge's (all of the symmetry's parts): internal or kinetic energy of one kind of material
+  auto energyOf = [&](const char* kind, bool kinetic) {
+    double e = 0.0;
+    for (std::size_t k = 0; k < cs.material_kind.size(); ++k)
+      if (cs.material_kind[k] == kind) e += kinetic ? row_totals.kinetic_by_material[k] : row_totals.internal_by_material[k];
+    return cs.symmetry * e;
+  };
   const std::vector<std::pair<const char*, std::function<double()>>> history_columns{
       {"t_s", [&] { return s.time(); }},
       {"impulse_Ns", [&] { return ts.impulse; }},
@@ -338,6 +359,10 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
       {"impulse_air_Ns", [&] { return ts.impulse_kind[0]; }},
       {"impulse_products_Ns", [&] { return ts.impulse_kind[1]; }},
       {"impulse_soil_Ns", [&] { return ts.impulse_kind[2]; }},
+      // the same split by the materials within 20 mm of the target (kNearWallDepth_m[1])
+      {"impulse_air_within_20mm_Ns", [&] { return ts.impulse_kind_near[3]; }},
+      {"impulse_products_within_20mm_Ns", [&] { return ts.impulse_kind_near[4]; }},
+      {"impulse_soil_within_20mm_Ns", [&] { return ts.impulse_kind_near[5]; }},
       {"bubble_height_on_axis_m", [&] { return prof.empty() ? 0.0 : prof[0]; }},
       {"soil_top_m", [&] {   // the highest soil anywhere: the top of the bubble or the ejecta cloud
          double top = std::nan("");
@@ -348,9 +373,17 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
       {"dt_s", [&] { return s.lastDt(); }},
       // where the target's underside is on the mesh (it moves the mesh with it; fixed: where it started)
       {"target_z_m", [&] { return cs.plate.present ? cs.plate.z_bottom_m + s.bodyOffset() : std::nan(""); }},
+      // each kind of material's energy: convergence by material, not only in the impulse's sum
+      {"internal_energy_air_J", [&] { return energyOf("air", false); }},
+      {"kinetic_energy_air_J", [&] { return energyOf("air", true); }},
+      {"internal_energy_products_J", [&] { return energyOf("products", false); }},
+      {"kinetic_energy_products_J", [&] { return energyOf("products", true); }},
+      {"internal_energy_soil_J", [&] { return energyOf("soil", false); }},
+      {"kinetic_energy_soil_J", [&] { return energyOf("soil", true); }},
   };
   auto record = [&]() {
     prof = surfaceProfile(cs, deck.output.surface_soil_fraction);
+    row_totals = s.totals();
     std::vector<double> row;
     for (const auto& [name, value] : history_columns) row.push_back(value());
     st.history.push_back(std::move(row));
@@ -497,6 +530,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   res.impulse_air_Ns = ts.impulse_kind[0];
   res.impulse_products_Ns = ts.impulse_kind[1];
   res.impulse_soil_Ns = ts.impulse_kind[2];
+  res.impulse_near_Ns = ts.impulse_kind_near;
   res.peak_force_N = ts.peak_force;
   res.final_velocity_m_s = ts.v;
   res.displacement_m = ts.z - cs.plate.z_bottom_m;
@@ -547,6 +581,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   sum["note"] = "impulse and force are the blast's: the load at rest (static_load_N) is taken off";
   sum["result"] = {{"impulse_Ns", res.impulse_Ns},
                    {"impulse_by_material_Ns", {{"air", res.impulse_air_Ns}, {"products", res.impulse_products_Ns}, {"soil", res.impulse_soil_Ns}}},
+                   {"impulse_by_material_within_Ns", nearWallJson(res.impulse_near_Ns)},
                    {"peak_force_N", res.peak_force_N},
                    {"final_plate_velocity_m_s", res.final_velocity_m_s},
                    {"plate_displacement_m", res.displacement_m},

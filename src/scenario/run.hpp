@@ -22,7 +22,9 @@ struct RunOptions {
 
 struct RunResult {
   double impulse_Ns = 0.0;          // total, delivered by the flow to the target (full 360 degrees)
-  double impulse_air_Ns = 0.0, impulse_products_Ns = 0.0, impulse_soil_Ns = 0.0;
+  double impulse_air_Ns = 0.0, impulse_products_Ns = 0.0, impulse_soil_Ns = 0.0;   // by the material beside each face
+  // by the materials within hydro::kNearWallDepth_m[l] of each face: [3 l + (air, products, soil)]
+  std::vector<double> impulse_near_Ns;
   double peak_force_N = 0.0;
   double final_velocity_m_s = 0.0;
   double displacement_m = 0.0;

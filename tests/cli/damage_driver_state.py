@@ -24,7 +24,8 @@ n = struct.unpack_from('<Q', state, 0)[0]
 scalars = json.loads(state[8:8 + n])
 assert 'next_profile' in scalars and 'target_z_m' in scalars, 'the driver state starts with its named scalars'
 kinds = 8 + n               # the impulse by kind (3 values) follows the scalars
-table = kinds + 8 + 8 * 3   # then the history table: its row count as a one-value list
+near = kinds + 8 + 8 * 3    # then the impulse by kind within each of 3 depths of the target (9 values)
+table = near + 8 + 8 * 9    # then the history table: its row count as a one-value list
 
 
 def write(name, damaged):
@@ -45,7 +46,8 @@ def scalars_with(**changes):
 write('nan-index', scalars_with(next_profile='NaN'))             # not JSON at all
 write('negative-index', scalars_with(next_profile=-1))           # a count that is no count
 write('missing-scalar', struct.pack('<Q', 2) + b'{}' + state[8 + n:])
-write('short-kinds', state[:kinds] + struct.pack('<Qd', 1, 0.0) + state[table:])
+write('short-kinds', state[:kinds] + struct.pack('<Qd', 1, 0.0) + state[near:])
+write('short-near', state[:near] + struct.pack('<Qd', 1, 0.0) + state[table:])
 write('empty-row-count', state[:table] + struct.pack('<Q', 0) + state[table + 16:])
 negative = bytearray(state)
 struct.pack_into('<d', negative, table + 8, -1.0)

@@ -89,7 +89,7 @@ err=$("$ejecta" run "${common[@]}" --restart a/summary.json --out c 2>&1 >/dev/n
 check "restart from a file that is not a checkpoint: exit 2" "[[ $? -eq 2 ]] && grep -q 'not an ejecta checkpoint' <<< \"\$err\""
 # ...and so is a driver state that does not fit, behind a valid envelope (the run would index it)
 mkdir -p bad && python3 "$(dirname "$0")/damage_driver_state.py" a/checkpoint.bin bad
-check "seven damaged driver states written" "[[ \$(ls bad/*.bin | wc -l) -eq 7 ]]"
+check "eight damaged driver states written" "[[ \$(ls bad/*.bin | wc -l) -eq 8 ]]"
 for f in bad/*.bin; do
   err=$("$ejecta" run "${common[@]}" --restart "$f" --out c 2>&1 >/dev/null)
   check "restart from $f: exit 2 (damaged)" "[[ $? -eq 2 ]] && grep -q 'checkpoint is damaged' <<< \"\$err\""

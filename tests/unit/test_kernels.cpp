@@ -106,6 +106,39 @@ TEST(Kernels, WallFaceLoadsTheBodyAndBooksItsWork) {
   EXPECT_NEAR(led.target_work, ps * 1e-6 * w, 1e-10);
 }
 
+// A film of sand (material 1) one cell thick on a wall, products (material 0) behind it: the cell
+// beside the wall books the whole load to the sand; a layer of fixed depth books it by volume.
+TEST(Kernels, LoadByMaterialNearTheWallCountsALayerOfFixedDepth) {
+  Line L(8, 2, 1e-6);   // unit cells: depths are in cell widths here
+  for (int i = 0; i < L.P.N; ++i) L.set(i, 1.0, 0.0, 1e5, 1.4e5);
+  const int wall = mesh::kGhost + 6;   // the body fills cells wall.. ; the film is cell wall - 1
+  for (int i = wall; i < L.P.N; ++i) L.P.solid[static_cast<std::size_t>(i)] = 1;
+  auto setAlpha = [&](int i, double sand) {
+    L.P.a[L.P.at(0, i)] = 1.0 - sand;
+    L.P.a[L.P.at(1, i)] = sand;
+  };
+  for (int i = 0; i < wall; ++i) setAlpha(i, 0.0);
+  setAlpha(wall - 1, 1.0);
+  double share[2];
+  hydro::nearWallShares(L.P, L.S, wall - 1, -1, 0.0, share);   // depth 0: the cell beside the wall
+  EXPECT_DOUBLE_EQ(share[1], 1.0);
+  hydro::nearWallShares(L.P, L.S, wall - 1, -1, 2.5, share);   // one cell of sand in 2.5
+  EXPECT_NEAR(share[1], 0.4, 1e-15);
+  EXPECT_NEAR(share[0] + share[1], 1.0, 1e-15);
+  hydro::nearWallShares(L.P, L.S, wall - 1, -1, 100.0, share);   // stops at the pencil's interior
+  EXPECT_NEAR(share[1], 1.0 / 6.0, 1e-15);
+  // the face's load, booked both ways, sums to the same total
+  hydro::PencilLedger led;
+  hydro::computeSlopes(L.P, L.S);
+  hydro::solveFaces(L.P, L.S, led);
+  const double imp = L.P.pstar[static_cast<std::size_t>(wall)] * 1e-6;
+  EXPECT_NEAR(led.impulse_on_body[1][0], imp, 1e-15);
+  for (int l = 0; l < hydro::kNearWallDepths; ++l)
+    EXPECT_NEAR(led.impulse_near_body[l][0][0] + led.impulse_near_body[l][1][0], imp, 1e-15) << l;
+  // 10 / 20 / 40 mm on unit cells: the sand's share is its cell alone at every listed depth
+  EXPECT_NEAR(led.impulse_near_body[0][1][0], imp, 1e-15);
+}
+
 TEST(Kernels, MixedCellClosureConservesEnergyAndHeatsTheCompressed) {
   // Products at 1 GPa beside air at 1 atm in one cell: relaxation expands the products and
   // squeezes the air; the energy the products give beyond the air's own-pressure work heats the air.

@@ -47,8 +47,9 @@ TEST(ValidationPlan, OnlyPicksStudiesAndTheirCasesAndRejectsUnknownNames) {
   }
 }
 
-// A made-up result for a case: impulse I split 10/20/70% air/products/soil, a straight history.
-json outcome(const scenario::ValidationCase& c, double impulse) {
+// A made-up result for a case: impulse I split 10/20/70% air/products/soil (by the cell beside the
+// plate; 10/30/60% within each depth), a straight history; each kind's energy scales with I.
+json outcome(const scenario::ValidationCase& c, double impulse, bool near_recorded = true) {
   scenario::RunResult r;
   r.impulse_Ns = impulse;
   r.impulse_air_Ns = 0.1 * impulse;
@@ -57,8 +58,16 @@ json outcome(const scenario::ValidationCase& c, double impulse) {
   r.peak_force_N = 1e6;
   r.cells = 100;
   r.steps = 10;
+  if (near_recorded)
+    for (int l = 0; l < 3; ++l) r.impulse_near_Ns.insert(r.impulse_near_Ns.end(), {0.1 * impulse, 0.3 * impulse, 0.6 * impulse});
   r.history_columns = {"t_s", "impulse_Ns", "soil_top_m", "bubble_height_on_axis_m"};
-  for (int i = 0; i <= 1000; ++i) r.history.push_back({1e-5 * i, impulse * i / 1000.0, 1e-4 * i, 5e-5 * i});
+  if (near_recorded)
+    for (const char* e : {"internal_energy_products_J", "kinetic_energy_products_J", "internal_energy_soil_J", "kinetic_energy_soil_J"})
+      r.history_columns.push_back(e);
+  for (int i = 0; i <= 1000; ++i) {
+    r.history.push_back({1e-5 * i, impulse * i / 1000.0, 1e-4 * i, 5e-5 * i});
+    if (near_recorded) r.history.back().insert(r.history.back().end(), {500.0 * impulse, 100.0 * impulse, 20.0 * impulse * i, 1e3 * impulse});
+  }
   r.profile_r_m = {0.0, 0.1};
   r.profile_times_s = {1e-3};
   r.profiles_m = {{0.05, std::nan("")}};
@@ -85,16 +94,22 @@ TEST(ValidationReport, StudiesComputeSpreadTrendsAndChangesFromTheResults) {
   EXPECT_NEAR(mesh.at("checks")[0].at("value").get<double>(), 2.0, 1e-9);
   EXPECT_TRUE(mesh.at("checks")[0].at("pass").get<bool>());
   EXPECT_NEAR(mesh.at("plot").at("mean_Ns").get<double>(), 5000.0, 1e-9);
-  EXPECT_EQ(mesh.at("table").at("rows")[1][8], "1.2e-13");   // the energy books' imbalance over the charge's energy
+  EXPECT_EQ(mesh.at("table").at("rows")[1][10], "1.2e-13");   // the energy books' imbalance over the charge's energy
+  EXPECT_EQ(mesh.at("table").at("rows")[1][8], "1470");      // the products within 20 mm: 30% of 4900 N s
   // the trend (5400 -> 4900 -> ... -> 5100: the last step 1.96%, the first 10.2%) is the quick
   // level's check; at the full level's converged cells it is shown, not judged
-  ASSERT_EQ(mesh.at("checks").size(), 4u);
+  ASSERT_EQ(mesh.at("checks").size(), 8u);
   EXPECT_NEAR(mesh.at("checks")[1].at("value").get<double>(), 100.0 * 100.0 / 5100.0, 1e-9);
   EXPECT_TRUE(mesh.at("checks")[1].at("pass").is_null());
   // each material's share is judged too: here the parts scale with the total, 2% each
   EXPECT_NEAR(mesh.at("checks")[2].at("value").get<double>(), 2.0, 1e-9);
   EXPECT_NEAR(mesh.at("checks")[3].at("value").get<double>(), 2.0, 1e-9);
   EXPECT_TRUE(mesh.at("checks")[3].at("pass").get<bool>());
+  // ...by the materials within 20 mm of the plate, and each material's energy at fixed times
+  for (std::size_t i = 4; i < 8; ++i) {
+    EXPECT_NEAR(mesh.at("checks")[i].at("value").get<double>(), 2.0, 1e-9) << i;
+    EXPECT_TRUE(mesh.at("checks")[i].at("pass").get<bool>()) << i;
+  }
   // moisture: 7% -> 22% rises by 5% although 14% -> 22% falls
   const auto moist = section("moisture");
   EXPECT_NEAR(moist.at("checks")[0].at("value").get<double>(), 5.0, 1e-9);
@@ -121,6 +136,38 @@ TEST(ValidationReport, StudiesComputeSpreadTrendsAndChangesFromTheResults) {
   EXPECT_TRUE(rep.at("cases")[0].at("reference_Ns").is_null());
 }
 
+// A mesh study whose splits and energies the runs did not record (an earlier build's results)
+// says so: the checks are shown as not recorded, never passed.
+TEST(ValidationReport, SplitsAnEarlierRunDidNotRecordAreNotJudged) {
+  const auto plan = scenario::validationPlan(ValidationLevel::Full, {"mesh"});
+  std::map<std::string, json> out;
+  for (const auto& c : plan.cases) out[c.id] = outcome(c, 5000.0, c.id != "mesh-4mm");
+  const auto rep = scenario::validationReport(plan, out, json::object());
+  const auto& checks = rep.at("checks");
+  ASSERT_EQ(checks.size(), 8u);
+  for (std::size_t i = 4; i < 8; ++i) {
+    EXPECT_TRUE(checks[i].at("value").is_null()) << i;
+    EXPECT_TRUE(checks[i].at("pass").is_null()) << i;
+  }
+  EXPECT_NE(io::renderReportMarkdown(rep).find("not recorded (an earlier run)"), std::string::npos);
+}
+
+// A products' share that falls with the cell size while the total holds fails, whichever split.
+TEST(ValidationReport, AProductsShareThatDriftsFailsTheLayerCheck) {
+  const auto plan = scenario::validationPlan(ValidationLevel::Full, {"mesh"});
+  std::map<std::string, json> out;
+  const std::map<std::string, double> products{{"mesh-10mm", 0.4}, {"mesh-6mm", 0.33}, {"mesh-5mm", 0.3}, {"mesh-4mm", 0.25}};
+  for (const auto& c : plan.cases) {
+    out[c.id] = outcome(c, 5000.0);
+    auto& w = out[c.id]["impulse_within_Ns"];
+    for (std::size_t l = 0; l < 3; ++l) w["products"][l] = products.at(c.id) * 5000.0;
+  }
+  const auto checks = scenario::validationReport(plan, out, json::object()).at("checks");
+  EXPECT_FALSE(checks[4].at("pass").get<bool>());   // products 1650/1500/1250 N s: 14.8% about their mean
+  EXPECT_NEAR(checks[4].at("value").get<double>(), 100.0 * (4400.0 / 3.0 - 1250.0) / (4400.0 / 3.0), 1e-9);
+  EXPECT_TRUE(checks[5].at("pass").get<bool>());    // the soil's unchanged
+}
+
 TEST(ValidationReport, AFallingMoistureTrendFailsItsCheck) {
   const auto plan = scenario::validationPlan(ValidationLevel::Quick, {"moisture"});
   std::map<std::string, json> out;
@@ -145,7 +192,7 @@ json quickMeshChecks(const std::vector<double>& impulses) {
 TEST(ValidationReport, QuickMeshStudyJudgesItsSpreadAndTrend) {
   // converging: changes of 2.5%, 1.5%, 0.4% (revision 3's quick run, 4250/4357/4423/4404 N s)
   const auto good = quickMeshChecks({4250.0, 4357.0, 4423.0, 4404.0});
-  ASSERT_EQ(good.size(), 4u);
+  ASSERT_EQ(good.size(), 8u);
   EXPECT_TRUE(good[0].at("pass").get<bool>());   // the finest three within 3% (0.85%)
   const double mean = (4357.0 + 4423.0 + 4404.0) / 3.0;
   EXPECT_NEAR(good[0].at("value").get<double>(), 100.0 * (mean - 4357.0) / mean, 1e-9);
