@@ -325,7 +325,7 @@ json validationReport(const ValidationPlan& plan, const std::map<std::string, js
         for (std::size_t i = k0; i < v.size(); ++i) sp = std::max(sp, std::abs(100.0 * (v[i] - pm) / pm));
         return sp;
       };
-      std::vector<double> part_spread, near_spread;
+      std::vector<double> part_spread;
       for (const char* part : {"impulse_products_Ns", "impulse_soil_Ns"}) {
         std::vector<double> v;
         for (const double c_h : h) v.push_back(get("mesh-" + mm(c_h) + "mm").at(part).get<double>());
@@ -338,77 +338,106 @@ json validationReport(const ValidationPlan& plan, const std::map<std::string, js
         sec["checks"].push_back(cp);
         checks.push_back(cp);
       }
+      // The layer split, at each recorded depth: informative. It weights a film on the plate by its
+      // thickness over the depth, so it shows where the load comes from behind the film but cannot
+      // judge the film itself (docs/validate.md).
       bool near_recorded = true;
       for (const double c_h : h) near_recorded = near_recorded && get("mesh-" + mm(c_h) + "mm").contains("impulse_within_Ns");
-      for (const char* kind : {"products", "soil"}) {
-        std::vector<double> v;
-        if (near_recorded)
-          for (const double c_h : h) v.push_back(nearWallImpulse(get("mesh-" + mm(c_h) + "mm"), kind));
-        const double sp = near_recorded ? spreadOf(v) : std::nan("");
-        near_spread.push_back(sp);
-        if (near_recorded) plot[std::string("within_") + kind] = v;
-        const auto cn = check(fmt::format("mesh: the {} impulse (by the materials within {:g} mm of the plate) at {} mm within 5% of their mean",
-                                          std::string(kind) == "products" ? "products'" : "soil's", 1e3 * kJudgedDepth_m, fmt::join(fine, ", ")),
-                              sp, "%", full ? "<= 5%" : "<= 5% (judged at the full level)",
-                              (full && near_recorded) ? json(sp <= 5.0) : json(nullptr));
-        sec["checks"].push_back(cn);
-        checks.push_back(cn);
-      }
-      // Each material's energy at fixed times (internal plus kinetic, J): where the energy goes,
-      // per material, must converge as well as the load it makes.
-      {
-        const std::array<double, 4> times{1e-3, 2e-3, 5e-3, 10e-3};
-        auto energyAt = [&](const json& o, const std::string& kind, double t_s) {
-          const auto& hist = o.at("history");
-          const std::string ie = "internal_energy_" + kind + "_J", ke = "kinetic_energy_" + kind + "_J";
-          if (!hist.contains(ie) || !hist.contains(ke)) return std::nan("");
-          const auto& ts = hist.at("t_s");
-          std::size_t best = 0;
-          for (std::size_t i = 0; i < ts.size(); ++i)
-            if (std::abs(ts.at(i).get<double>() - t_s) < std::abs(ts.at(best).get<double>() - t_s)) best = i;
-          const auto& a = hist.at(ie).at(best);
-          const auto& b = hist.at(ke).at(best);
-          return a.is_number() && b.is_number() ? a.get<double>() + b.get<double>() : std::nan("");
-        };
-        auto te = table({"material", "time (ms)", "energy by cell size (kJ)", "spread of the finest three about their mean"});
-        for (const std::string kind : {"products", "soil"}) {
-          double worst = 0.0;
-          bool recorded = true;
-          for (const double t_s : times) {
+      std::vector<double> near_spread;   // products, soil at kJudgedDepth_m
+      auto tn = table({"split by the materials within", "products by cell size (N s)", "products' spread", "soil by cell size (N s)", "soil's spread"});
+      if (near_recorded) {
+        for (const double depth : hydro::kNearWallDepth_m) {
+          std::vector<std::string> row{fmt::format("{:g} mm", 1e3 * depth)};
+          for (const char* kind : {"products", "soil"}) {
             std::vector<double> v;
             std::vector<std::string> txt;
             for (const double c_h : h) {
-              v.push_back(energyAt(get("mesh-" + mm(c_h) + "mm"), kind, t_s));
-              txt.push_back(fmt::format("{} mm: {}", mm(c_h), fixed(1e-3 * v.back(), 1)));
-              recorded = recorded && std::isfinite(v.back());
+              v.push_back(nearWallImpulse(get("mesh-" + mm(c_h) + "mm"), kind, depth));
+              txt.push_back(fmt::format("{}: {}", mm(c_h), fixed(v.back(), 0)));
             }
-            const double sp = recorded ? spreadOf(v) : std::nan("");
-            if (recorded) worst = std::max(worst, sp);
-            te["rows"].push_back({kind, fmt::format("{:g}", 1e3 * t_s), fmt::format("{}", fmt::join(txt, "; ")), std::isfinite(sp) ? fmt::format("{:.1f}%", sp) : "-"});
+            const double sp = spreadOf(v);
+            if (std::abs(depth - kJudgedDepth_m) < 1e-9) {
+              near_spread.push_back(sp);
+              plot[std::string("within_") + kind] = v;
+            }
+            row.push_back(fmt::format("{}", fmt::join(txt, " / ")));
+            row.push_back(fmt::format("{:.1f}%", sp));
           }
-          const auto ce = check(fmt::format("mesh: the {} energy (internal + kinetic) at 1, 2, 5, 10 ms, at {} mm, within 5% of their mean",
-                                            kind == "products" ? "products'" : "soil's", fmt::join(fine, ", ")),
-                                recorded ? worst : std::nan(""), "%", full ? "<= 5%" : "<= 5% (judged at the full level)",
-                                (full && recorded) ? json(worst <= 5.0) : json(nullptr));
-          sec["checks"].push_back(ce);
-          checks.push_back(ce);
+          tn["rows"].push_back(row);
         }
-        sec["tables"] = json::array({te});
       }
+      if (near_spread.size() != 2) near_spread = {std::nan(""), std::nan("")};
+      for (std::size_t q = 0; q < 2; ++q) {
+        const auto cn = check(fmt::format("mesh: the {} impulse (by the materials within {:g} mm of the plate) at {} mm about their mean",
+                                          q == 0 ? "products'" : "soil's", 1e3 * kJudgedDepth_m, fmt::join(fine, ", ")),
+                              near_spread[q], "%", "informative (a film on the plate is diluted by the layer)", json(nullptr));
+        sec["checks"].push_back(cn);
+        checks.push_back(cn);
+      }
+      // Each material's internal and kinetic energy at fixed times (J, judged apart, so that an
+      // exchange between the two cannot hide): where the energy goes, per material, must converge
+      // as well as the load it makes.
+      auto te = table({"energy", "time (ms)", "by cell size (kJ)", "spread of the finest three about their mean"});
+      {
+        const std::array<double, 5> times{0.5e-3, 1e-3, 2e-3, 5e-3, 10e-3};
+        // linear in time between the two samples of the (thinned) history around t_s
+        auto energyAt = [&](const json& o, const std::string& column, double t_s) {
+          const auto& hist = o.at("history");
+          if (!hist.contains(column)) return std::nan("");
+          const auto& ts = hist.at("t_s");
+          const auto& ys = hist.at(column);
+          for (std::size_t i = 1; i < ts.size(); ++i) {
+            const double t0 = ts.at(i - 1).get<double>(), t1 = ts.at(i).get<double>();
+            if (t1 < t_s && i + 1 < ts.size()) continue;
+            if (!ys.at(i - 1).is_number() || !ys.at(i).is_number() || !(t1 > t0)) return std::nan("");
+            const double w = std::clamp((t_s - t0) / (t1 - t0), 0.0, 1.0);
+            return (1.0 - w) * ys.at(i - 1).get<double>() + w * ys.at(i).get<double>();
+          }
+          return std::nan("");
+        };
+        for (const std::string kind : {"products", "soil"})
+          for (const std::string part : {"internal", "kinetic"}) {
+            const std::string column = part + "_energy_" + kind + "_J";
+            double worst = 0.0;
+            bool recorded = true;
+            for (const double t_s : times) {
+              std::vector<double> v;
+              std::vector<std::string> txt;
+              for (const double c_h : h) {
+                v.push_back(energyAt(get("mesh-" + mm(c_h) + "mm"), column, t_s));
+                txt.push_back(fmt::format("{}: {}", mm(c_h), fixed(1e-3 * v.back(), 1)));
+                recorded = recorded && std::isfinite(v.back());
+              }
+              const double sp = std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); }) ? spreadOf(v) : std::nan("");
+              if (std::isfinite(sp)) worst = std::max(worst, sp);
+              te["rows"].push_back({fmt::format("{} {}", kind, part), fmt::format("{:g}", 1e3 * t_s), fmt::format("{}", fmt::join(txt, " / ")),
+                                    std::isfinite(sp) ? fmt::format("{:.1f}%", sp) : "-"});
+            }
+            const auto ce = check(fmt::format("mesh: the {} {} energy at 0.5, 1, 2, 5, 10 ms, at {} mm, within 5% of their mean", kind, part,
+                                              fmt::join(fine, ", ")),
+                                  recorded ? worst : std::nan(""), "%", full ? "<= 5%" : "<= 5% (judged at the full level)",
+                                  (full && recorded) ? json(worst <= 5.0) : json(nullptr));
+            sec["checks"].push_back(ce);
+            checks.push_back(ce);
+          }
+      }
+      sec["tables"] = json::array({tn, te});
       const auto pctText = [](double v) { return std::isfinite(v) ? fmt::format("{:.1f}%", v) : std::string("not recorded"); };
       sec["paragraphs"] = json::array(
           {fmt::format("The published study found the total impulse at 10 ms barely moves with the cell size. "
                        "Here the finest three sizes lie within {:.2f}% of their mean ({:.0f} N s); "
                        "the coarsest ({} mm) is {:+.1f}% off it. By material, split by the cell beside the plate, the products' impulse of the "
                        "finest three lies within {:.1f}% of its mean and the soil's within {:.1f}%; split by the materials within {:g} mm of the "
-                       "plate, within {} and {}. Total energy is conserved (no sink): the last column is each run's energy imbalance over the "
-                       "charge's energy.",
+                       "plate, within {} and {} (informative). Total energy is conserved (no sink): the last column is each run's energy "
+                       "imbalance over the charge's energy.",
                        spread, mean, mm(h[0]), 100.0 * (imp[0] - mean) / mean, part_spread[0], part_spread[1], 1e3 * kJudgedDepth_m,
                        pctText(near_spread[0]), pctText(near_spread[1])),
-           "The two splits differ where a film of sand lies on the plate: the cell beside the plate books the whole load to whatever "
-           "fills that cell, so a film of fixed thickness is a larger share of a thinner cell and the products' part of that split falls "
-           "as the cells shrink until the film is resolved; the layer split counts each material by its volume within a fixed depth "
-           "(docs/run.md, \"The load by material\")."});
+           "A single wall pressure has no unique split by material; both splits are conventions. The split by the cell beside the plate "
+           "books the load to whatever touches the plate: where sand stays on the plate it is the soil's. How much sand stays there late "
+           "in the run does not converge with these cells (docs/validate.md), and that is what moves this split. The split by the "
+           "materials within a fixed depth weights such a film by its thickness over the depth: it shows what lies behind the film, and "
+           "is reported, not judged. The tables below give it at every recorded depth, and each material's internal and kinetic energy "
+           "at fixed times, judged apart."});
       sec["figure"] = "mesh.png";
       sec["caption"] = "Impulse on the fixed plate vs time for each cell size (left) and at 10 ms vs cell size (right).";
       sec["plot"] = plot;
