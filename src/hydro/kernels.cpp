@@ -98,16 +98,37 @@ void nearWallShares(const Pencil& P, const SweepSetup& S, int from, int step, do
   }
 }
 
-// Books a load `imp` (N s along `comp`) on the body at the face beside fluid cell `fluid`, the
-// body lying `step` = -1 (below) or +1 (above) along the pencil: by the material in the cell and by
-// the materials within each of kNearWallDepth_m.
-static void bookLoadByMaterial(const Pencil& P, const SweepSetup& S, int fluid, int step, std::size_t comp, double imp, PencilLedger& ledger) {
+// Books a load on the body at the face beside fluid cell `fluid`, the body lying `step` = -1 (below)
+// or +1 (above) along the pencil: `total` (N s along `comp`, into impulse_total) and `imp` (the
+// same against the reference pressure) by the material in the cell and by the materials within
+// each of kNearWallDepth_m; `cell_only`: the cell's own fractions at every depth.
+static void bookLoadByMaterial(const Pencil& P, const SweepSetup& S, int fluid, int step, std::size_t comp, double total, double imp,
+                               bool cell_only, PencilLedger& ledger) {
   const int M = P.M;
-  for (int k = 0; k < M; ++k) ledger.impulse_on_body[k][comp] += imp * P.a[P.at(k, fluid)];
+  double by_mat[kMaxMaterials], near[kNearWallDepths][kMaxMaterials];
+  for (int k = 0; k < M; ++k) by_mat[k] = imp * P.a[P.at(k, fluid)];
   double share[kMaxMaterials];
   for (int l = 0; l < kNearWallDepths; ++l) {
+    if (cell_only) {
+      for (int k = 0; k < M; ++k) near[l][k] = by_mat[k];
+      continue;
+    }
     nearWallShares(P, S, fluid, -step, kNearWallDepth_m[static_cast<std::size_t>(l)], share);
-    for (int k = 0; k < M; ++k) ledger.impulse_near_body[l][k][comp] += imp * share[k];
+    for (int k = 0; k < M; ++k) near[l][k] = imp * share[k];
+  }
+  ledger.impulse_total[comp] += total;
+  for (int k = 0; k < M; ++k) {
+    ledger.impulse_on_body[k][comp] += by_mat[k];
+    for (int l = 0; l < kNearWallDepths; ++l) ledger.impulse_near_body[l][k][comp] += near[l][k];
+  }
+  if (ledger.events) {
+    auto& e = *ledger.events;
+    e.push_back(ledger.key);
+    e.push_back(static_cast<double>(comp));
+    e.push_back(total);
+    for (int k = 0; k < M; ++k) e.push_back(by_mat[k]);
+    for (int l = 0; l < kNearWallDepths; ++l)
+      for (int k = 0; k < M; ++k) e.push_back(near[l][k]);
   }
 }
 
@@ -153,12 +174,12 @@ void solveFaces(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
           const std::size_t fluid = body_right ? L : R;
           const double sign = body_right ? 1.0 : -1.0;
           ledger.target_work += sign * ps * P.area[sf] * dt * wall_u;
-          ledger.impulse_total[S.d] += sign * ps * P.area[sf] * dt;
           // by material against the ambient (reference) pressure: the air's share is then what the
           // blast adds to the air's push, not the atmosphere on the plate's top; over the closed
           // body the reference sums to zero, so the total is the load itself
           const double imp = sign * (ps - S.load_reference) * P.area[sf] * dt;
-          bookLoadByMaterial(P, S, static_cast<int>(fluid), body_right ? 1 : -1, static_cast<std::size_t>(S.d), imp, ledger);
+          bookLoadByMaterial(P, S, static_cast<int>(fluid), body_right ? 1 : -1, static_cast<std::size_t>(S.d), sign * ps * P.area[sf] * dt, imp, false,
+                             ledger);
         }
       }
       continue;
@@ -396,16 +417,9 @@ void lagrangeUpdate(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
         E -= w_body;
         if (interior) {
           ledger.target_work += w_body;
-          ledger.impulse_total[comp] += taken;
-          const bool one_side = !(P.solid[si - 1] && P.solid[si + 1]);
-          if (one_side) {
-            bookLoadByMaterial(P, S, i, P.solid[si + 1] ? 1 : -1, comp, taken, ledger);
-          } else {   // between two body faces: the cell itself at every depth
-            for (int k = 0; k < M; ++k) {
-              ledger.impulse_on_body[k][comp] += taken * P.a[P.at(k, i)];
-              for (int l = 0; l < kNearWallDepths; ++l) ledger.impulse_near_body[l][k][comp] += taken * P.a[P.at(k, i)];
-            }
-          }
+          // between two body faces: the cell's own fractions at every depth
+          const bool between = P.solid[si - 1] && P.solid[si + 1];
+          bookLoadByMaterial(P, S, i, P.solid[si + 1] ? 1 : -1, comp, taken, taken, between, ledger);
         }
       }
     }
@@ -444,8 +458,8 @@ void lagrangeUpdate(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     return w;
   };
   const std::size_t lo = static_cast<std::size_t>(g), hi = static_cast<std::size_t>(g + n);
-  if (!P.solid[lo]) ledger.boundary_in += dt * P.area[lo] * (P.pstar[lo] * P.ustar[lo] - shearWork(g));
-  if (!P.solid[hi - 1]) ledger.boundary_in -= dt * P.area[hi] * (P.pstar[hi] * P.ustar[hi] - shearWork(g + n));
+  if (!P.solid[lo] && S.lo_is_boundary) ledger.boundary_in += dt * P.area[lo] * (P.pstar[lo] * P.ustar[lo] - shearWork(g));
+  if (!P.solid[hi - 1] && S.hi_is_boundary) ledger.boundary_in -= dt * P.area[hi] * (P.pstar[hi] * P.ustar[hi] - shearWork(g + n));
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -541,8 +555,8 @@ void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
       P.fkek[kf] = sign * 0.5 * mflux_k[k] * uf2;
       eflow += P.fe[kf] + P.fkek[kf];
     }
-    if (f == g) ledger.boundary_in += eflow;
-    if (f == g + n) ledger.boundary_in -= eflow;
+    if (f == g && S.lo_is_boundary) ledger.boundary_in += eflow;
+    if (f == g + n && S.hi_is_boundary) ledger.boundary_in -= eflow;
   }
 }
 

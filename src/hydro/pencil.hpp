@@ -69,6 +69,9 @@ struct SweepSetup {
   const double* xf = nullptr;  // [N + 1]
   const double* inv_dx = nullptr;  // [N], 1 / (xc[i] - xc[i-1])
   const double* grid_disp = nullptr;   // [N + 1], m: how far each face moves this sweep (a body moving the mesh; else 0)
+  // The pencil's end faces are the domain's boundary (their energy flow is booked); false where a
+  // slab of the domain meets its neighbour (the face is interior to the whole).
+  bool lo_is_boundary = true, hi_is_boundary = true;
 };
 
 // Energy booked by one pencil in one sweep, J (axisymmetric: per radian).
@@ -82,7 +85,13 @@ struct PencilLedger {
                                                    // sums to zero over a closed body) and the friction
   double impulse_near_body[kNearWallDepths][kMaxMaterials][3] = {};   // the same, by material within
                                                                       // kNearWallDepth_m of the face
+  // A domain split into slabs sums the body's load in the whole's order: each increment above is
+  // also logged, in order, as [key, component, total, by material (M), near the wall (3 M)]
+  // (`kBodyEventSize`), when `events` is set; `key` is the pencil's place in the whole's order.
+  std::vector<double>* events = nullptr;
+  double key = 0.0;
 };
+inline constexpr int bodyEventSize(int M) { return 3 + (1 + kNearWallDepths) * M; }
 
 // Each material's share of the fluid within `depth` (m) of a wall face, from the fluid cell `from`
 // beside it walking away from the body by `step` (+1 or -1) over interior fluid cells: by volume,

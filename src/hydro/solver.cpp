@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "hydro/pencil.hpp"
+#include "parallel/exchange.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -126,6 +127,18 @@ void Solver::moveMeshWithBody(int axis, double anchor_below, double anchor_above
   if (body_.empty()) throw InputError("target", "the mesh moves with a body: set the body first");
   if (axis < 0 || axis >= grid_.dims() || (axis == 0 && grid_.curvilinear()))
     throw InputError("target", "the body moves the mesh along z (axisymmetric) or any Cartesian axis");
+  if (axis == 0 && grid_.isSlab()) throw InputError("target", "a domain split along axis 0 cannot move its mesh along it");
+  mesh_axis_ = axis;
+  anchor_below_ = anchor_below;
+  anchor_above_ = anchor_above;
+  body_offset_ = 0.0;
+  bandMovingMesh();
+}
+
+// The body's band of faces along the moving axis (over the whole domain: a slab without the body
+// moves its mesh as the whole does), and the fixed faces nearest the anchors.
+void Solver::bandMovingMesh() {
+  const int axis = mesh_axis_;
   int lo = grid_.cells(axis), hi = -1;
   for (std::size_t c = 0; c < body_.size(); ++c) {
     if (!body_[c] || !grid_.isInterior(c)) continue;
@@ -133,6 +146,12 @@ void Solver::moveMeshWithBody(int axis, double anchor_below, double anchor_above
     const int j = axis == 0 ? ix.i : (axis == 1 ? ix.j : ix.k);
     lo = std::min(lo, j);
     hi = std::max(hi, j + 1);
+  }
+  if (exchange_ && exchange_->size() > 1) {
+    lo = static_cast<int>(exchange_->minimum(lo));
+    hi = -static_cast<int>(exchange_->minimum(-hi));
+  } else if (grid_.isSlab()) {
+    return;   // completed by setExchange, which sees the other slabs
   }
   if (hi < 0) throw InputError("target", "the body holds no cell of the mesh");
   const auto& f = grid_.axis(axis).faces();
@@ -142,16 +161,14 @@ void Solver::moveMeshWithBody(int axis, double anchor_below, double anchor_above
       if (std::abs(f[static_cast<std::size_t>(q)] - z) < std::abs(f[static_cast<std::size_t>(best)] - z)) best = q;
     return best;
   };
-  const int below = std::min(nearest(anchor_below), lo - 1), above = std::max(nearest(anchor_above), hi + 1);
+  const int below = std::min(nearest(anchor_below_), lo - 1), above = std::max(nearest(anchor_above_), hi + 1);
   if (below < 0 || above > grid_.cells(axis))
     throw InputError("target", "the body needs at least one cell of mesh below and above it to move through");
-  mesh_axis_ = axis;
   faces0_ = f;
   f_lo_ = below;
   f_b0_ = lo;
   f_b1_ = hi;
   f_hi_ = above;
-  body_offset_ = 0.0;
 }
 
 mesh::Axis Solver::movedAxis(double offset) const {
@@ -343,6 +360,7 @@ double Solver::stableTimeStep() const {
         for (int d = 0; d < dims; ++d)
           dt = std::min(dt, grid_.width(d, idx[d]) / (std::abs(u_[static_cast<std::size_t>(d)][c]) + cs + 1e-30));
       }
+  if (exchange_) dt = exchange_->minimum(dt);
   return opt_.cfl * dt;
 }
 
@@ -394,6 +412,7 @@ void Solver::fillGhosts(int d) {
     return grid_.index(idx[0], idx[1], idx[2]);
   };
   for (int side = 0; side < 2; ++side) {
+    if (d == 0 && (side == 0 ? halo_lo_ : halo_hi_)) continue;   // the neighbouring slab's cells (exchangeHalo)
     const BoundaryKind kind = opt_.boundary[static_cast<std::size_t>(d)][static_cast<std::size_t>(side)];
     for (int a = lo1; a < hi1; ++a)
       for (int b = lo2; b < hi2; ++b)
@@ -422,6 +441,111 @@ void Solver::fillGhosts(int d) {
           for (std::size_t c = 0; c < 3; ++c) u_[c][g] = u_[c][s];
           if (kind == BoundaryKind::Reflect) u_[static_cast<std::size_t>(d)][g] = -u_[static_cast<std::size_t>(d)][s];
         }
+  }
+}
+
+// ------------------------------------------------------------------------------------------------
+// A slab of a decomposed domain: its neighbours' cells in its ghost layers along axis 0, and the
+// body's load in the whole's order.
+
+void Solver::setExchange(parallel::Exchange* ex) {
+  exchange_ = ex;
+  halo_lo_ = halo_hi_ = false;
+  if (!ex || ex->size() == 1) return;
+  if (mesh_axis_ == 0) throw InputError("mesh", "a domain split along axis 0 cannot move its mesh along it");
+  if (opt_.boundary[0][0] == BoundaryKind::Periodic || opt_.boundary[0][1] == BoundaryKind::Periodic)
+    throw InputError("mesh", "a domain split along axis 0 cannot be periodic along it");
+  if (grid_.cells(0) < kGhost) throw InputError("mesh", fmt::format("a slab needs at least {} cells along axis 0", kGhost));
+  halo_lo_ = grid_.offset0() > 0;
+  halo_hi_ = grid_.offset0() + grid_.cells(0) < grid_.globalCells0();
+  if (mesh_axis_ >= 0) bandMovingMesh();   // the body's band over the whole domain
+}
+
+void Solver::exchangeHalo(bool weights) {
+  if (!halo_lo_ && !halo_hi_ && !exchange_) return;
+  const int n = grid_.cells(0), g = kGhost;
+  const int lo1 = -grid_.ghost(1), hi1 = grid_.cells(1) + grid_.ghost(1), lo2 = -grid_.ghost(2), hi2 = grid_.cells(2) + grid_.ghost(2);
+  const std::size_t total = grid_.totalCells();
+  const int M = materialCount();
+  // every cell of `g` layers starting at column i0, transverse ghosts included, in one order
+  auto each = [&](int i0, const std::function<void(std::size_t)>& f) {
+    for (int q = 0; q < g; ++q)
+      for (int j = lo1; j < hi1; ++j)
+        for (int k = lo2; k < hi2; ++k) f(grid_.index(i0 + q, j, k));
+  };
+  auto pack = [&](int i0) {
+    std::vector<double> out;
+    each(i0, [&](std::size_t c) {
+      if (weights) {
+        for (int m = 0; m < M; ++m) out.push_back(wlic_[static_cast<std::size_t>(m) * total + c]);
+        return;
+      }
+      for (std::size_t q = 0; q < 3; ++q) out.push_back(u_[q][c]);
+      for (const auto& f : fields_) {
+        out.push_back(f.alpha[c]);
+        out.push_back(f.rho[c]);
+        out.push_back(f.e[c]);
+        out.push_back(f.h0[c]);
+        if (!f.s[0].empty())
+          for (const auto& sc : f.s) out.push_back(sc[c]);
+      }
+    });
+    return out;
+  };
+  auto unpack = [&](int i0, const std::vector<double>& in) {
+    std::size_t at = 0;
+    each(i0, [&](std::size_t c) {
+      if (weights) {
+        for (int m = 0; m < M; ++m) wlic_[static_cast<std::size_t>(m) * total + c] = in.at(at++);
+        return;
+      }
+      for (std::size_t q = 0; q < 3; ++q) u_[q][c] = in.at(at++);
+      for (auto& f : fields_) {
+        f.alpha[c] = in.at(at++);
+        f.rho[c] = in.at(at++);
+        f.e[c] = in.at(at++);
+        f.h0[c] = in.at(at++);
+        if (!f.s[0].empty())
+          for (auto& sc : f.s) sc[c] = in.at(at++);
+      }
+    });
+    if (at != in.size()) throw RunError("a neighbouring slab sent a halo of the wrong size");
+  };
+  if (weights && M < 2) return;
+  std::vector<double> from_lo, from_hi;
+  exchange_->swapHalo(halo_lo_ ? pack(0) : std::vector<double>{}, halo_hi_ ? pack(n - g) : std::vector<double>{}, from_lo, from_hi);
+  if (halo_lo_) unpack(-g, from_lo);
+  if (halo_hi_) unpack(n, from_hi);
+}
+
+void Solver::combineBodyLoad(const std::vector<double>& events) {
+  const int M = materialCount(), R = bodyEventSize(M);
+  const auto all = exchange_->gatherAll(events);
+  const std::size_t count = all.size() / static_cast<std::size_t>(R);
+  // by the pencil's place in the whole; a pencil cut by slabs keeps its slabs' order (a stable sort)
+  std::vector<std::size_t> order(count);
+  for (std::size_t i = 0; i < count; ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return all[a * R] < all[b * R]; });
+  // as the whole sums them: within a pencil in order from zero, then pencil after pencil
+  std::size_t i = 0;
+  while (i < count) {
+    const double key = all[order[i] * R];
+    double total[3] = {}, by_mat[kMaxMaterials][3] = {}, near[kNearWallDepths][kMaxMaterials][3] = {};
+    for (; i < count && all[order[i] * R] == key; ++i) {
+      const double* e = all.data() + order[i] * R;
+      const auto comp = static_cast<std::size_t>(e[1]);
+      total[comp] += e[2];
+      for (int k = 0; k < M; ++k) by_mat[k][comp] += e[3 + k];
+      for (int l = 0; l < kNearWallDepths; ++l)
+        for (int k = 0; k < M; ++k) near[l][k][comp] += e[3 + M + l * M + k];
+    }
+    for (std::size_t q = 0; q < 3; ++q) {
+      body_impulse_[q] += total[q];
+      for (int k = 0; k < M; ++k) {
+        body_impulse_mat_[static_cast<std::size_t>(k)][q] += by_mat[k][q];
+        for (int l = 0; l < kNearWallDepths; ++l) body_impulse_near_[static_cast<std::size_t>(l)][static_cast<std::size_t>(k)][q] += near[l][k][q];
+      }
+    }
   }
 }
 
@@ -495,6 +619,7 @@ void Solver::updateBurn(double dt) {
 
 void Solver::updateStress(double dt) {
   if (!any_strength_) return;
+  if (exchange_) exchangeHalo(false);
   for (int d = 0; d < grid_.dims(); ++d) fillGhosts(d);
   const int dims = grid_.dims();
   const bool axi = grid_.axisymmetric(), sph = grid_.spherical();
@@ -718,8 +843,10 @@ std::size_t Solver::scatterPencil(const Pencil& P, int d, std::size_t base) {
 }
 
 void Solver::sweep(int d, double dt) {
+  if (exchange_) exchangeHalo(false);   // the neighbours' cells first: the boundaries' ghosts copy them at the corners
   fillGhosts(d);
   interfaceWeights(d);
+  if (exchange_ && d == 0) exchangeHalo(true);   // the axis-0 sweep reads the weights in its ghost cells
   const int n = grid_.cells(d), g = kGhost;
   const int M = materialCount();
   SweepSetup S;
@@ -758,9 +885,25 @@ void Solver::sweep(int d, double dt) {
     for (int f = 0; f <= n; ++f) line_gd[static_cast<std::size_t>(f + g)] = moved->faces()[static_cast<std::size_t>(f)] - grid_.face(d, f);
   }
   S.grid_disp = line_gd.data();
+  if (d == 0) {
+    S.lo_is_boundary = !halo_lo_;
+    S.hi_is_boundary = !halo_hi_;
+  }
   // Each pencil books its own energy and impulse; they are summed in pencil order afterwards,
   // so the result does not depend on the number of threads.
   std::vector<PencilLedger> ledgers(static_cast<std::size_t>(n1) * static_cast<std::size_t>(n2));
+  // a slab logs the body's load by pencil, keyed by the pencil's place in the whole domain's order
+  std::vector<std::vector<double>> events(exchange_ ? ledgers.size() : 0);
+  if (exchange_) {
+    const double n_t2 = S.t2 == 0 ? grid_.globalCells0() : grid_.cells(S.t2);
+    const int off1 = S.t1 == 0 ? grid_.offset0() : 0, off2 = S.t2 == 0 ? grid_.offset0() : 0;
+    for (int a = 0; a < n1; ++a)
+      for (int b = 0; b < n2; ++b) {
+        auto& l = ledgers[static_cast<std::size_t>(a) * static_cast<std::size_t>(n2) + static_cast<std::size_t>(b)];
+        l.events = &events[static_cast<std::size_t>(a) * static_cast<std::size_t>(n2) + static_cast<std::size_t>(b)];
+        l.key = static_cast<double>(a + off1) * n_t2 + static_cast<double>(b + off2);
+      }
+  }
   std::size_t bad_cell = std::numeric_limits<std::size_t>::max();
   [[maybe_unused]] const bool team = useThreads();
 
@@ -795,10 +938,17 @@ void Solver::sweep(int d, double dt) {
     grid_.moveFaces(d, std::move(*moved));
     body_offset_ = offset_after;
   }
+  if (exchange_) {   // every slab sees the same load, summed as the whole would sum it
+    std::vector<double> mine;
+    for (const auto& e : events) mine.insert(mine.end(), e.begin(), e.end());
+    combineBodyLoad(mine);
+    for (auto& l : ledgers) l.events = nullptr;
+  }
   for (const auto& l : ledgers) {
     energy_.boundary_in += l.boundary_in;
     energy_.target_work += l.target_work;
     energy_.gravity_work += l.gravity_work;
+    if (exchange_) continue;
     // the total from the stress itself: the by-material split is against the reference pressure,
     // which cancels over the plate's top and bottom but not over a rim or a symmetry-plane cut
     for (std::size_t q = 0; q < 3; ++q) body_impulse_[q] += l.impulse_total[q];
@@ -810,7 +960,10 @@ void Solver::sweep(int d, double dt) {
             body_impulse_near_[static_cast<std::size_t>(w)][static_cast<std::size_t>(k)][q] += l.impulse_near_body[w][k][q];
         }
   }
-  if (bad_cell != std::numeric_limits<std::size_t>::max()) checkCell(bad_cell, d == 0 ? "sweep along axis 0" : (d == 1 ? "sweep along axis 1" : "sweep along axis 2"));
+  const bool bad_here = bad_cell != std::numeric_limits<std::size_t>::max();
+  if (exchange_ && exchange_->minimum(bad_here ? 0.0 : 1.0) < 0.5 && !bad_here)   // every slab stops together
+    throw RunError(fmt::format("another slab of the domain failed at t = {:.6g} s, step {}", time_, step_));
+  if (bad_here) checkCell(bad_cell, d == 0 ? "sweep along axis 0" : (d == 1 ? "sweep along axis 1" : "sweep along axis 2"));
 }
 
 void Solver::checkCell(std::size_t cell, const char* stage) const {

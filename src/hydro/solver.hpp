@@ -28,6 +28,10 @@
 #include "hydro/pencil.hpp"
 #include "mesh/grid.hpp"
 
+namespace ejecta::parallel {
+class Exchange;   // parallel/exchange.hpp
+}
+
 namespace ejecta::hydro {
 
 using Vec3 = std::array<double, 3>;
@@ -97,6 +101,7 @@ struct RunStats {
   double wall_seconds = 0.0;
 };
 
+
 struct Pencil;       // hydro/pencil.hpp: the sweep's kernels
 struct SweepSetup;
 
@@ -139,6 +144,14 @@ class Solver {
   // The same split by the materials' volume within kNearWallDepth_m[layer] of each face.
   const std::vector<Vec3>& lastBodyImpulseNearWall(int layer) const { return body_impulse_near_[static_cast<std::size_t>(layer)]; }
 
+  // --- a slab of a decomposed domain ----------------------------------------------------------
+  // This solver's grid is one slab (mesh::Grid::slab) of a domain split along axis 0, and `ex`
+  // connects it to the others: their ghost layers before each sweep, the smallest time step, and
+  // the body's load summed in the whole domain's order, so that every slab steps exactly as the
+  // whole would (bit for bit; tests/unit/test_decomposition.cpp). The energy books, totals() and
+  // bodyLoad() stay this slab's own (the caller sums them). Call before the first step.
+  void setExchange(parallel::Exchange* ex);
+
   // --- checkpoints: the whole state, bit for bit ------------------------------------------------
   void writeCheckpoint(std::ostream& os) const;
   void readCheckpoint(std::istream& is);   // throws InputError if it does not fit this set-up
@@ -178,6 +191,8 @@ class Solver {
 
  private:
   void fillGhosts(int d);
+  void exchangeHalo(bool weights);   // axis 0's ghost layers from the neighbouring slabs: the state, or the interface weights
+  void combineBodyLoad(const std::vector<double>& events);   // the body's load of a sweep, summed in the whole's order
   void interfaceWeights(int d);
   void sweep(int d, double dt);
   void gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, const SweepSetup& S) const;
@@ -185,7 +200,8 @@ class Solver {
   void updateBurn(double dt);
   void updateStress(double dt);
   void checkCell(std::size_t cell, const char* stage) const;
-  mesh::Axis movedAxis(double offset) const;   // the moving axis's faces with the body moved by `offset`
+  mesh::Axis movedAxis(double offset) const;
+  void bandMovingMesh();   // the moving axis's faces with the body moved by `offset`
   // A 1D mesh is one pencil: a thread team would only wait at its barriers (which, on cores
   // shared with other processes, cost more than the line's work), so it runs on one thread.
   bool useThreads() const { return grid_.dims() > 1; }
@@ -201,6 +217,7 @@ class Solver {
   std::vector<double> faces0_;           // that axis's faces at offset 0
   int f_lo_ = 0, f_b0_ = 0, f_b1_ = 0, f_hi_ = 0;   // fixed below, body band, fixed above (face indices)
   double body_offset_ = 0.0;             // m
+  double anchor_below_ = 0.0, anchor_above_ = 0.0;   // m, where the moving mesh stays put
   Vec3 body_impulse_{};
   std::vector<Vec3> body_impulse_mat_;
   std::array<std::vector<Vec3>, kNearWallDepths> body_impulse_near_;
@@ -215,6 +232,8 @@ class Solver {
   std::int64_t step_ = 0;
   RunStats stats_;
   bool any_strength_ = false;
+  parallel::Exchange* exchange_ = nullptr;
+  bool halo_lo_ = false, halo_hi_ = false;   // a neighbouring slab below / above along axis 0
 };
 
 // Index of the deviatoric component shared by axes a and b (a == b: the normal component).

@@ -95,6 +95,25 @@ Grid::Grid(int dims, Geometry geometry, std::array<Axis, 3> axes) : dims_(dims),
   stride_[1] = n_[2] + 2 * g_[2];
   stride_[0] = stride_[1] * (n_[1] + 2 * g_[1]);
   total_ = static_cast<std::size_t>(stride_[0] * (n_[0] + 2 * g_[0]));
+  global0_ = n_[0];
+}
+
+Grid Grid::slab(int begin, int end) const {
+  if (isSlab()) throw InputError("mesh", "a slab is cut from the whole grid");
+  if (begin < 0 || end > n_[0] || end - begin < kGhost)
+    throw InputError("mesh", fmt::format("a slab [{}, {}) of {} cells needs at least {} cells", begin, end, n_[0], kGhost));
+  const auto& f = axes_[0].faces();
+  Grid s(dims_, geometry_, {Axis(std::vector<double>(f.begin() + begin, f.begin() + end + 1)), axes_[1], axes_[2]});
+  // ghost geometry along axis 0 from the whole grid: entries [f + g] for faces f in [begin - g, end + g]
+  const int g = g_[0];
+  s.fx_[0].assign(fx_[0].begin() + begin, fx_[0].begin() + end + 2 * g + 1);
+  for (std::size_t c = 0; c < s.xc_[0].size(); ++c) {
+    s.xc_[0][c] = 0.5 * (s.fx_[0][c] + s.fx_[0][c + 1]);
+    s.dx_[0][c] = s.fx_[0][c + 1] - s.fx_[0][c];
+  }
+  s.offset0_ = begin;
+  s.global0_ = n_[0];
+  return s;
 }
 
 void Grid::axisGeometry(int d) {
@@ -121,6 +140,7 @@ void Grid::moveFaces(int d, Axis moved) {
   if (d < 0 || d >= dims_ || moved.cells() != n_[static_cast<std::size_t>(d)])
     throw InputError("mesh", "a moved axis must keep its number of cells");
   if (d == 0 && curvilinear()) throw InputError("mesh", "the radial axis of an axisymmetric or spherical mesh does not move");
+  if (d == 0 && isSlab()) throw InputError("mesh", "the axis a slab was cut along does not move");
   axes_[static_cast<std::size_t>(d)] = std::move(moved);
   axisGeometry(d);
 }

@@ -88,8 +88,18 @@ class Grid {
   double faceArea(int d, int i, int j, int k) const;
   double minWidth() const;
   // Replaces the faces of axis d (the same number of cells, strictly increasing): the mesh of an
-  // ALE region that moves with a body. Not the radial axis of an axisymmetric mesh.
+  // ALE region that moves with a body. Not the radial axis of an axisymmetric mesh, nor the axis a
+  // slab was cut along.
   void moveFaces(int d, Axis moved);
+
+  // The block of cells [begin, end) along axis 0 (one rank's slab of the domain). Its ghost cells
+  // along axis 0 keep this grid's geometry (the neighbouring block's cells, or this grid's own
+  // ghosts at the domain's ends), so that a kernel reads the same centres and widths in a slab as
+  // in the whole. Cell i of the slab is cell i + offset0() of this grid.
+  Grid slab(int begin, int end) const;
+  int offset0() const { return offset0_; }
+  int globalCells0() const { return global0_; }
+  bool isSlab() const { return global0_ != n_[0]; }
 
  private:
   void axisGeometry(int d);   // faces, centres and widths of axis d, ghosts included
@@ -100,6 +110,7 @@ class Grid {
   std::array<std::ptrdiff_t, 3> stride_{0, 0, 0};
   std::size_t total_ = 0;
   std::array<std::vector<double>, 3> fx_, xc_, dx_;
+  int offset0_ = 0, global0_ = 0;   // a slab's first cell and the whole domain's cells along axis 0
 };
 
 }  // namespace ejecta::mesh
