@@ -343,11 +343,14 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   // history.csv: each column declared once, with what fills it (SI units in the names)
   std::vector<double> prof;   // the soil surface at the sample being recorded
   hydro::Totals row_totals;   // the energy books at that sample
-  // J, the whole charge's (all of the symmetry's parts): internal or kinetic energy of one kind of material
-  auto energyOf = [&](const char* kind, bool kinetic) {
+  // the whole charge's (all of the symmetry's parts): one kind of material's internal or kinetic
+  // energy (J) or mass (kg) on the mesh
+  enum class Held { internal, kinetic, mass };
+  auto heldBy = [&](const char* kind, Held what) {
     double e = 0.0;
     for (std::size_t k = 0; k < cs.material_kind.size(); ++k)
-      if (cs.material_kind[k] == kind) e += kinetic ? row_totals.kinetic_by_material[k] : row_totals.internal_by_material[k];
+      if (cs.material_kind[k] == kind)
+        e += what == Held::kinetic ? row_totals.kinetic_by_material[k] : (what == Held::internal ? row_totals.internal_by_material[k] : row_totals.mass[k]);
     return cs.symmetry * e;
   };
   const std::vector<std::pair<const char*, std::function<double()>>> history_columns{
@@ -373,13 +376,16 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
       {"dt_s", [&] { return s.lastDt(); }},
       // where the target's underside is on the mesh (it moves the mesh with it; fixed: where it started)
       {"target_z_m", [&] { return cs.plate.present ? cs.plate.z_bottom_m + s.bodyOffset() : std::nan(""); }},
-      // each kind of material's energy: convergence by material, not only in the impulse's sum
-      {"internal_energy_air_J", [&] { return energyOf("air", false); }},
-      {"kinetic_energy_air_J", [&] { return energyOf("air", true); }},
-      {"internal_energy_products_J", [&] { return energyOf("products", false); }},
-      {"kinetic_energy_products_J", [&] { return energyOf("products", true); }},
-      {"internal_energy_soil_J", [&] { return energyOf("soil", false); }},
-      {"kinetic_energy_soil_J", [&] { return energyOf("soil", true); }},
+      // each kind of material's energy and mass on the mesh (what has left through the boundaries
+      // is not): convergence by material, not only in the impulse's sum
+      {"internal_energy_air_J", [&] { return heldBy("air", Held::internal); }},
+      {"kinetic_energy_air_J", [&] { return heldBy("air", Held::kinetic); }},
+      {"internal_energy_products_J", [&] { return heldBy("products", Held::internal); }},
+      {"kinetic_energy_products_J", [&] { return heldBy("products", Held::kinetic); }},
+      {"internal_energy_soil_J", [&] { return heldBy("soil", Held::internal); }},
+      {"kinetic_energy_soil_J", [&] { return heldBy("soil", Held::kinetic); }},
+      {"mass_products_kg", [&] { return heldBy("products", Held::mass); }},
+      {"mass_soil_kg", [&] { return heldBy("soil", Held::mass); }},
   };
   auto record = [&]() {
     prof = surfaceProfile(cs, deck.output.surface_soil_fraction);

@@ -209,9 +209,9 @@ json condenseOutcome(const ValidationCase& c, const RunResult& r, std::size_t ma
   const std::size_t stride = std::max<std::size_t>(1, (n + max_rows - 1) / std::max<std::size_t>(max_rows, 1));
   for (std::size_t q = 0; q < r.history_columns.size(); ++q) {
     const auto& name = r.history_columns[q];
-    static const std::array<const char*, 10> kept{"t_s", "impulse_Ns", "soil_top_m", "bubble_height_on_axis_m", "impulse_products_within_20mm_Ns",
+    static const std::array<const char*, 12> kept{"t_s", "impulse_Ns", "soil_top_m", "bubble_height_on_axis_m", "impulse_products_within_20mm_Ns",
                                                   "impulse_soil_within_20mm_Ns", "internal_energy_products_J", "kinetic_energy_products_J",
-                                                  "internal_energy_soil_J", "kinetic_energy_soil_J"};
+                                                  "internal_energy_soil_J", "kinetic_energy_soil_J", "mass_products_kg", "mass_soil_kg"};
     if (std::find(kept.begin(), kept.end(), name) == kept.end()) continue;
     json col = json::array();
     for (std::size_t i = 0; i < n; i += stride) col.push_back(value(r.history[i].at(q)));
