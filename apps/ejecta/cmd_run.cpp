@@ -10,6 +10,10 @@
 #include "ejecta/build_info.hpp"
 #include "scenario/run.hpp"
 
+#ifdef EJECTA_HAVE_MPI
+#include "parallel/mpi.hpp"
+#endif
+
 
 namespace ejecta::cli {
 namespace {
@@ -50,9 +54,24 @@ int runRun(const RunCliOptions& o) {
   ro.progress = !o.quiet;
   ro.plot = o.plot;
   ro.log = [](const std::string& m) { std::cerr << "run: " << m << '\n'; };
-  std::cerr << fmt::format("run: {} ({}), core cells {:g} mm, to {:g} ms -> {}\n", deck.title, path, deck.mesh.cell_size_m * 1e3, deck.end_time_s * 1e3,
-                           ro.out_dir);
+  bool speaker = true;   // on MPI ranks, rank 0 speaks for the run
+#ifdef EJECTA_HAVE_MPI
+  std::unique_ptr<parallel::MpiExchange> ranks;
+  if (mpiRanks() > 1) {
+    ranks = std::make_unique<parallel::MpiExchange>(MPI_COMM_WORLD);
+    ro.exchange = ranks.get();
+    speaker = ranks->rank() == 0;
+    if (!speaker) {
+      ro.progress = false;
+      ro.log = {};
+    }
+  }
+#endif
+  if (speaker)
+    std::cerr << fmt::format("run: {} ({}), core cells {:g} mm, to {:g} ms -> {}\n", deck.title, path, deck.mesh.cell_size_m * 1e3, deck.end_time_s * 1e3,
+                             ro.out_dir);
   const auto r = scenario::runCase(deck, ro);
+  if (!speaker) return 0;
   std::cout << fmt::format(
       "{}\n  impulse on the target: {:.1f} N s (air {:.1f}, products {:.1f}, soil {:.1f})\n  peak force {:.4g} N, plate velocity {:.3g} m/s, "
       "displacement {:.3g} mm\n  {} cells, {} steps, {:.1f} s wall\n  wrote {}/summary.json, history.csv, gauges.csv, surface_profiles.csv, "

@@ -1,4 +1,6 @@
 #pragma once
+#include <string>
+
 #include <CLI/CLI.hpp>
 
 namespace ejecta::cli {
@@ -22,5 +24,11 @@ std::string cellSizeOverride(const std::string& millimetres);
 std::string resolveDeck(const std::string& name);
 
 double parseNumber(const std::string& field, const std::string& text, bool percent_ok = false);
+
+// The number of MPI ranks this process runs among (1 without a launcher or without MPI).
+int mpiRanks();
+int mpiRank();
+bool speaks();             // this process prints for the run (rank 0, or the only process)
+std::string rankPrefix();  // "rank N: " on MPI ranks, else nothing
 
 }  // namespace ejecta::cli

@@ -10,7 +10,71 @@
 #include "core/error.hpp"
 #include "ejecta/build_info.hpp"
 
+#ifdef EJECTA_HAVE_MPI
+#include <mpi.h>
+
+#include <cstdlib>
+#endif
+
+namespace ejecta::cli {
+#ifdef EJECTA_HAVE_MPI
+namespace {
+// MPI starts only under a launcher (mpirun sets these), so that a plain `ejecta` never needs one.
+bool launchedByMpi() {
+  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_SIZE"})
+    if (std::getenv(v)) return true;
+  return false;
+}
+struct MpiSession {
+  bool on = false;
+  int size = 1, rank = 0;
+  MpiSession(int& argc, char**& argv) {
+    if (!launchedByMpi()) return;
+    MPI_Init(&argc, &argv);
+    on = true;
+    MPI_Comm_size(MPI_COMM_WORLD, &size);
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  }
+  ~MpiSession() {
+    if (on) MPI_Finalize();
+  }
+  MpiSession(const MpiSession&) = delete;
+  MpiSession& operator=(const MpiSession&) = delete;
+};
+MpiSession* session = nullptr;
+}  // namespace
+int mpiRanks() { return session ? session->size : 1; }
+int mpiRank() { return session ? session->rank : 0; }
+#else
+int mpiRanks() { return 1; }
+int mpiRank() { return 0; }
+#endif
+// Bad input is found by every rank alike: rank 0 says it once. A run that stops may stop on one
+// rank alone, which says so.
+bool speaks() { return mpiRank() == 0; }
+std::string rankPrefix() { return mpiRanks() > 1 ? "rank " + std::to_string(mpiRank()) + ": " : std::string(); }
+}  // namespace ejecta::cli
+
+namespace {
+int runCommand(int argc, char** argv);
+}
+
 int main(int argc, char** argv) {
+#ifdef EJECTA_HAVE_MPI
+  ejecta::cli::MpiSession mpi(argc, argv);
+  ejecta::cli::session = &mpi;
+  const int rc = runCommand(argc, argv);
+  // A rank that failed alone would leave the others waiting in a collective: stop them all.
+  if (rc != 0 && mpi.on && mpi.size > 1) MPI_Abort(MPI_COMM_WORLD, rc);
+  return rc;
+#else
+  return runCommand(argc, argv);
+#endif
+}
+
+namespace {
+
+int runCommand(int argc, char** argv) {
   CLI::App app{"ejecta: predicts how a buried charge in sand loads a vehicle underbody. SI units throughout."};
   app.set_version_flag("--version", std::string("ejecta ") + ejecta::build_info::version);
   app.require_subcommand(1);
@@ -34,15 +98,19 @@ int main(int argc, char** argv) {
     std::cerr << "ejecta: error: " << e.what() << " (see ejecta --help)\n";
     return 2;
   }
+  if (ejecta::cli::mpiRanks() > 1 && !app.got_subcommand("run")) {
+    if (ejecta::cli::speaks()) std::cerr << "ejecta: error: ranks: only `ejecta run` runs on MPI ranks; start the others without mpirun\n";
+    return 2;
+  }
   try {
     for (auto& action : actions)
       if (int rc = action(); rc >= 0) return rc;
     return 2;
   } catch (const ejecta::InputError& e) {
-    std::cerr << "ejecta: error: " << e.what() << '\n';
+    if (ejecta::cli::speaks()) std::cerr << "ejecta: error: " << e.what() << '\n';
     return 2;
   } catch (const ejecta::RunError& e) {
-    std::cerr << "ejecta: run stopped: " << e.what() << '\n';
+    std::cerr << "ejecta: run stopped: " << ejecta::cli::rankPrefix() << e.what() << '\n';
     return 3;
   } catch (const std::filesystem::filesystem_error& e) {
     // an output path the user named that cannot be made or written (a file where a folder must be,
@@ -54,3 +122,4 @@ int main(int argc, char** argv) {
     return 1;
   }
 }
+}  // namespace

@@ -132,6 +132,7 @@ void Solver::moveMeshWithBody(int axis, double anchor_below, double anchor_above
   anchor_below_ = anchor_below;
   anchor_above_ = anchor_above;
   body_offset_ = 0.0;
+  faces0_ = grid_.axis(axis).faces();   // the mesh at offset 0 (a slab cut later keeps it)
   bandMovingMesh();
 }
 
@@ -154,7 +155,7 @@ void Solver::bandMovingMesh() {
     return;   // completed by setExchange, which sees the other slabs
   }
   if (hi < 0) throw InputError("target", "the body holds no cell of the mesh");
-  const auto& f = grid_.axis(axis).faces();
+  const auto& f = faces0_;
   auto nearest = [&](double z) {
     int best = 0;
     for (int q = 0; q < static_cast<int>(f.size()); ++q)
@@ -164,7 +165,6 @@ void Solver::bandMovingMesh() {
   const int below = std::min(nearest(anchor_below_), lo - 1), above = std::max(nearest(anchor_above_), hi + 1);
   if (below < 0 || above > grid_.cells(axis))
     throw InputError("target", "the body needs at least one cell of mesh below and above it to move through");
-  faces0_ = f;
   f_lo_ = below;
   f_b0_ = lo;
   f_b1_ = hi;
@@ -459,6 +459,105 @@ void Solver::setExchange(parallel::Exchange* ex) {
   halo_lo_ = grid_.offset0() > 0;
   halo_hi_ = grid_.offset0() + grid_.cells(0) < grid_.globalCells0();
   if (mesh_axis_ >= 0) bandMovingMesh();   // the body's band over the whole domain
+}
+
+Solver Solver::slab(int begin, int end) const {
+  if (grid_.isSlab()) throw InputError("mesh", "a slab is cut from the whole solver");
+  Solver s(*this);
+  s.grid_ = grid_.slab(begin, end);
+  s.exchange_ = nullptr;
+  s.halo_lo_ = s.halo_hi_ = false;
+  const std::size_t total = s.grid_.totalCells(), whole_total = grid_.totalCells();
+  std::vector<std::size_t> from(total);   // each slab cell's cell in the whole
+  for (std::size_t c = 0; c < total; ++c) {
+    const auto ix = s.grid_.unflatten(c);
+    from[c] = grid_.index(ix.i + begin, ix.j, ix.k);
+  }
+  auto cut = [&](const std::vector<double>& w) {
+    std::vector<double> v(total);
+    for (std::size_t c = 0; c < total; ++c) v[c] = w[from[c]];
+    return v;
+  };
+  for (std::size_t k = 0; k < fields_.size(); ++k) {
+    auto& f = s.fields_[k];
+    const auto& w = fields_[k];
+    f.alpha = cut(w.alpha);
+    f.rho = cut(w.rho);
+    f.e = cut(w.e);
+    f.h0 = cut(w.h0);
+    if (!w.s[0].empty())
+      for (std::size_t q = 0; q < 6; ++q) f.s[q] = cut(w.s[q]);
+  }
+  for (std::size_t q = 0; q < 3; ++q) s.u_[q] = cut(u_[q]);
+  if (!body_.empty()) {
+    s.body_.assign(total, 0);
+    for (std::size_t c = 0; c < total; ++c) s.body_[c] = body_[from[c]];
+  }
+  if (!wlic_.empty()) {
+    s.wlic_.assign(total * mats_.size(), 1.0);
+    for (std::size_t m = 0; m < mats_.size(); ++m)
+      for (std::size_t c = 0; c < total; ++c) s.wlic_[m * total + c] = wlic_[m * whole_total + from[c]];
+  }
+  s.light_distance_ = cut(light_distance_);
+  s.light_delay_ = cut(light_delay_);
+  s.burn_length_ = cut(burn_length_);
+  if (begin > 0) s.energy_ = EnergyLedger{};
+  return s;
+}
+
+void Solver::assemble(const Solver& mine, parallel::Exchange& ex) {
+  const auto& g = mine.grid_;
+  const int n1 = g.cells(1), n2 = g.cells(2);
+  // [offset, cells, the ledger (3)] then, per interior cell in (i, j, k) order: velocity, and each
+  // material's fraction, density, energy, history (and stress)
+  std::vector<double> out{static_cast<double>(g.offset0()), static_cast<double>(g.cells(0)), mine.energy_.boundary_in, mine.energy_.target_work,
+                          mine.energy_.gravity_work};
+  for (int i = 0; i < g.cells(0); ++i)
+    for (int j = 0; j < n1; ++j)
+      for (int k = 0; k < n2; ++k) {
+        const std::size_t c = g.index(i, j, k);
+        for (std::size_t q = 0; q < 3; ++q) out.push_back(mine.u_[q][c]);
+        for (const auto& f : mine.fields_) {
+          out.insert(out.end(), {f.alpha[c], f.rho[c], f.e[c], f.h0[c]});
+          if (!f.s[0].empty())
+            for (const auto& sc : f.s) out.push_back(sc[c]);
+        }
+      }
+  const auto all = ex.gatherAll(out);
+  energy_ = EnergyLedger{};
+  std::size_t at = 0;
+  for (int r = 0; r < ex.size(); ++r) {
+    const int offset = static_cast<int>(all.at(at)), cells = static_cast<int>(all.at(at + 1));
+    energy_.boundary_in += all.at(at + 2);
+    energy_.target_work += all.at(at + 3);
+    energy_.gravity_work += all.at(at + 4);
+    at += 5;
+    for (int i = offset; i < offset + cells; ++i)
+      for (int j = 0; j < n1; ++j)
+        for (int k = 0; k < n2; ++k) {
+          const std::size_t c = grid_.index(i, j, k);
+          for (std::size_t q = 0; q < 3; ++q) u_[q][c] = all.at(at++);
+          for (auto& f : fields_) {
+            f.alpha[c] = all.at(at++);
+            f.rho[c] = all.at(at++);
+            f.e[c] = all.at(at++);
+            f.h0[c] = all.at(at++);
+            if (!f.s[0].empty())
+              for (auto& sc : f.s) sc[c] = all.at(at++);
+          }
+        }
+  }
+  // the clock, the controller, the body and its mesh: the same on every slab
+  time_ = mine.time_;
+  last_dt_ = mine.last_dt_;
+  dt_free_ = mine.dt_free_;
+  step_ = mine.step_;
+  stats_ = mine.stats_;
+  body_velocity_ = mine.body_velocity_;
+  if (mesh_axis_ >= 0 && body_offset_ != mine.body_offset_) {
+    body_offset_ = mine.body_offset_;
+    grid_.moveFaces(mesh_axis_, movedAxis(body_offset_));
+  }
 }
 
 void Solver::exchangeHalo(bool weights) {

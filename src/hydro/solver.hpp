@@ -151,6 +151,14 @@ class Solver {
   // whole would (bit for bit; tests/unit/test_decomposition.cpp). The energy books, totals() and
   // bodyLoad() stay this slab's own (the caller sums them). Call before the first step.
   void setExchange(parallel::Exchange* ex);
+  // This solver's slab [begin, end) of axis 0 as a solver of its own, in the same state (its cells,
+  // ghosts included, the body, the moving mesh, the clock); the slab holding cell 0 keeps the energy
+  // books so far, the others start theirs at zero (so that the slabs' books sum to the whole's).
+  Solver slab(int begin, int end) const;
+  // This (whole) solver takes the state the slabs of `ex` hold now, `mine` being this rank's: every
+  // rank gets every cell (for writing fields and checkpoints), the clock and the mesh, and the
+  // energy books summed over the slabs.
+  void assemble(const Solver& mine, parallel::Exchange& ex);
 
   // --- checkpoints: the whole state, bit for bit ------------------------------------------------
   void writeCheckpoint(std::ostream& os) const;

@@ -22,6 +22,11 @@
 #include "core/error.hpp"
 #include "ejecta/build_info.hpp"
 #include "io/subprocess.hpp"
+#include "parallel/exchange.hpp"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 #include "io/checkpoint.hpp"
 #include "io/vtk.hpp"
 #include "hydro/rezone.hpp"
@@ -179,8 +184,7 @@ io::CheckpointHeader checkpointHeader(const Deck& deck, double t) {
 
 // Height of the soil surface in each column along the first horizontal axis (r; x at y = 0 in 3D):
 // the top of the highest cell holding at least `threshold` of soil by volume.
-std::vector<double> surfaceProfile(const Case& cs, double threshold) {
-  const auto& s = *cs.solver;
+std::vector<double> surfaceProfile(const Case& cs, const hydro::Solver& s, double threshold) {
   const auto& g = s.grid();
   const int up = cs.vertical;
   std::vector<double> z(static_cast<std::size_t>(g.cells(0)), std::nan(""));
@@ -287,6 +291,14 @@ std::optional<EarlyPlan> planEarly(const Deck& deck, const Case& cs) {
   return p;
 }
 
+int threadCount() {
+#ifdef _OPENMP
+  return omp_get_max_threads();
+#else
+  return 1;
+#endif
+}
+
 std::string csvRow(const std::vector<double>& v) {
   std::string s;
   for (std::size_t i = 0; i < v.size(); ++i) s += fmt::format("{}{:.9g}", i ? "," : "", v[i]);
@@ -306,6 +318,8 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   const auto up = static_cast<std::size_t>(cs.vertical);
   DriverState st;
   st.target.z = cs.plate.z_bottom_m;
+  parallel::Exchange* const ex = opt.exchange && opt.exchange->size() > 1 ? opt.exchange : nullptr;   // MPI ranks
+  const bool writer = !opt.exchange || opt.exchange->rank() == 0;                                      // writes the run folder
   st.energy_initial = s.totals().total();
   const double static_run = cs.plate.present ? cs.symmetry * s.bodyLoad()[up] : 0.0;   // N, the load at rest
   // A free target carries the mesh between the uniform core's bottom and the domain's top with it.
@@ -321,8 +335,8 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
       throw InputError("checkpoint-at", fmt::format("{:g} s is not after the checkpoint's time, {:g} s", opt.checkpoint_at_s, s.time()));
     say(fmt::format("restarted from {} at t = {:.6g} s", opt.restart, s.time()));
   }
-  fs::create_directories(out / "fields");
-  if (!opt.restart.empty()) {
+  if (writer) fs::create_directories(out / "fields");
+  if (writer && !opt.restart.empty()) {
     // The snapshots before the checkpoint belong to this run too: copied from the checkpoint's
     // folder where they are there; fields.pvd lists only the snapshots the folder holds.
     const fs::path from = fs::path(opt.restart).parent_path() / "fields";
@@ -335,6 +349,48 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
 
   const coupling::Target target(cs.plate.present, deck.target.motion == "free", deck.target.mass_kg, deck.gravity ? 9.81 : 0.0, cs.symmetry,
                                 cs.vertical, cs.material_kind);
+  // On MPI ranks the whole is built (and its early time run) on every rank, then each steps its
+  // slab (`rs`); what a sample needs from the whole is summed or gathered in rank order.
+  std::unique_ptr<hydro::Solver> slab;
+  hydro::Solver* rs = &s;
+  auto totalsNow = [&]() {
+    auto t = rs->totals();
+    if (!slab) return t;
+    std::vector<double> v;
+    for (const auto* part : {&t.mass, &t.internal_by_material, &t.kinetic_by_material}) v.insert(v.end(), part->begin(), part->end());
+    v.insert(v.end(), {t.momentum[0], t.momentum[1], t.momentum[2], t.internal_energy, t.kinetic_energy, t.boundary_in, t.target_work, t.gravity_work});
+    const auto all = ex->gatherAll(v);
+    std::vector<double> sum(v.size(), 0.0);
+    for (std::size_t r = 0; r < all.size() / v.size(); ++r)
+      for (std::size_t i = 0; i < v.size(); ++i) sum[i] += all[r * v.size() + i];
+    std::size_t at = 0;
+    for (auto* part : {&t.mass, &t.internal_by_material, &t.kinetic_by_material})
+      for (auto& x : *part) x = sum[at++];
+    for (auto& m : t.momentum) m = sum[at++];
+    t.internal_energy = sum[at++];
+    t.kinetic_energy = sum[at++];
+    t.boundary_in = sum[at++];
+    t.target_work = sum[at++];
+    t.gravity_work = sum[at++];
+    return t;
+  };
+  auto profileNow = [&]() {   // per column of axis 0: the slabs' columns in rank order are the whole's
+    auto z = surfaceProfile(cs, *rs, deck.output.surface_soil_fraction);
+    return slab ? ex->gatherAll(z) : z;
+  };
+  // a gauge's pressure, from the slab that holds its cell (the radial axis never moves)
+  auto gaugeNow = [&](const std::vector<double>& p) {
+    if (!slab) return rs->pressure(cellAt(rs->grid(), cs.vertical, p[0], p[1]));
+    const auto& f = g.axis(0).faces();
+    const int i = std::clamp(static_cast<int>(std::upper_bound(f.begin(), f.end(), p[0]) - f.begin()) - 1, 0, g.cells(0) - 1);
+    const auto& sg = rs->grid();
+    const bool mine = i >= sg.offset0() && i < sg.offset0() + sg.cells(0);
+    const double r_local = mine ? sg.centre(0, i - sg.offset0()) : sg.centre(0, 0);
+    const auto all = ex->gatherAll({mine ? rs->pressure(cellAt(sg, cs.vertical, r_local, p[1])) : std::nan("")});
+    for (const double v : all)
+      if (!std::isnan(v)) return v;
+    return std::nan("");
+  };
   const auto t_wall0 = std::chrono::steady_clock::now();
   auto last_progress = t_wall0;
   const double t_end = deck.end_time_s;
@@ -354,9 +410,9 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     return cs.symmetry * e;
   };
   const std::vector<std::pair<const char*, std::function<double()>>> history_columns{
-      {"t_s", [&] { return s.time(); }},
+      {"t_s", [&] { return rs->time(); }},
       {"impulse_Ns", [&] { return ts.impulse; }},
-      {"force_N", [&] { return target.lastForce(s, ts); }},
+      {"force_N", [&] { return target.lastForce(*rs, ts); }},
       {"plate_velocity_m_s", [&] { return ts.v; }},
       {"plate_displacement_m", [&] { return ts.z - cs.plate.z_bottom_m; }},
       {"impulse_air_Ns", [&] { return ts.impulse_kind[0]; }},
@@ -373,9 +429,9 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
            if (std::isfinite(z) && !(top >= z)) top = z;
          return top;
        }},
-      {"dt_s", [&] { return s.lastDt(); }},
+      {"dt_s", [&] { return rs->lastDt(); }},
       // where the target's underside is on the mesh (it moves the mesh with it; fixed: where it started)
-      {"target_z_m", [&] { return cs.plate.present ? cs.plate.z_bottom_m + s.bodyOffset() : std::nan(""); }},
+      {"target_z_m", [&] { return cs.plate.present ? cs.plate.z_bottom_m + rs->bodyOffset() : std::nan(""); }},
       // each kind of material's energy and mass on the mesh (what has left through the boundaries
       // is not): convergence by material, not only in the impulse's sum
       {"internal_energy_air_J", [&] { return heldBy("air", Held::internal); }},
@@ -388,18 +444,19 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
       {"mass_soil_kg", [&] { return heldBy("soil", Held::mass); }},
   };
   auto record = [&]() {
-    prof = surfaceProfile(cs, deck.output.surface_soil_fraction);
-    row_totals = s.totals();
+    prof = profileNow();
+    row_totals = totalsNow();
     std::vector<double> row;
     for (const auto& [name, value] : history_columns) row.push_back(value());
     st.history.push_back(std::move(row));
-    std::vector<double> gr{s.time()};   // gauges stay at their points in space while the mesh moves
-    for (const auto& p : deck.output.gauges_m) gr.push_back(s.pressure(cellAt(g, cs.vertical, p[0], p[1])));
+    std::vector<double> gr{rs->time()};   // gauges stay at their points in space while the mesh moves
+    for (const auto& p : deck.output.gauges_m) gr.push_back(gaugeNow(p));
     st.gauges.push_back(gr);
   };
   auto writeField = [&]() {
+    if (slab) s.assemble(*rs, *ex);   // the whole, on every rank; rank 0 writes it
     const std::string name = fmt::format("fields/field_{:04d}.vtr", st.next_field);
-    io::writeFileAtomically(out / name, [&](std::ostream& os) { io::writeVtr(os, s); });
+    if (writer) io::writeFileAtomically(out / name, [&](std::ostream& os) { io::writeVtr(os, s); });
     st.field_times.push_back(s.time());
   };
   if (s.time() == 0.0) record();
@@ -481,15 +538,25 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     record();
   }
 
-  while (s.time() < t_end * (1.0 - 1e-12)) {
+  // ---- on MPI ranks: from here each rank steps its slab of the run mesh
+  if (ex) {
+    const auto slabs = parallel::slabs(g.cells(0), ex->size());
+    const auto& part = slabs[static_cast<std::size_t>(ex->rank())];
+    slab = std::make_unique<hydro::Solver>(s.slab(part.begin, part.end));
+    slab->setExchange(ex);
+    rs = slab.get();
+    say(fmt::format("{} MPI ranks: this rank steps cells {} to {} of {} along axis 0", ex->size(), part.begin, part.end - 1, g.cells(0)));
+  }
+  const long long steps_before = rs->stats().steps;
+  while (rs->time() < t_end * (1.0 - 1e-12)) {
     // land exactly on output times, the checkpoint time and the end
     double stop = std::min(t_end, st.next_history + h_interval);
     if (st.next_profile < deck.output.profile_times_s.size()) stop = std::min(stop, deck.output.profile_times_s[st.next_profile]);
     if (st.next_field < deck.output.field_times_s.size()) stop = std::min(stop, deck.output.field_times_s[st.next_field]);
-    if (opt.checkpoint_at_s > s.time()) stop = std::min(stop, opt.checkpoint_at_s);
-    const double dt = s.nextTimeStep(stop);
-    s.setBodyVelocity(target.wallVelocity(ts));
-    s.step(dt);
+    if (opt.checkpoint_at_s > rs->time()) stop = std::min(stop, opt.checkpoint_at_s);
+    const double dt = rs->nextTimeStep(stop);
+    rs->setBodyVelocity(target.wallVelocity(ts));
+    rs->step(dt);
     // The target: what the blast gives it, per material kind. The load at rest (about zero now that
     // the sand carries the pore air's pressure; in the test the supports carry whatever is left) is
     // measured before any wave arrives and taken off.
@@ -497,15 +564,15 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
       ts.static_force = static_run;
       ts.static_known = true;
     }
-    target.bookStep(s, ts.static_force, dt, ts);
-    const double t = s.time();
+    target.bookStep(*rs, ts.static_force, dt, ts);
+    const double t = rs->time();
     if (t >= st.next_history + h_interval * (1.0 - 1e-9) || t >= t_end * (1.0 - 1e-12)) {
       st.next_history = t;
       record();
     }
     if (st.next_profile < deck.output.profile_times_s.size() && t >= deck.output.profile_times_s[st.next_profile] * (1.0 - 1e-12)) {
       st.profile_times.push_back(t);
-      st.profiles.push_back(surfaceProfile(cs, deck.output.surface_soil_fraction));
+      st.profiles.push_back(profileNow());
       ++st.next_profile;
     }
     if (st.next_field < deck.output.field_times_s.size() && t >= deck.output.field_times_s[st.next_field] * (1.0 - 1e-12)) {
@@ -513,23 +580,26 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
       ++st.next_field;
     }
     if (opt.checkpoint_at_s > 0.0 && !st.checkpoint_written && t >= opt.checkpoint_at_s * (1.0 - 1e-12)) {
+      // one file, whatever the number of ranks (the whole's state): a restart may use any number
+      if (slab) s.assemble(*rs, *ex);
       std::ostringstream payload;
       s.writeCheckpoint(payload);
       putState(payload, st);
-      io::writeCheckpointFile((out / "checkpoint.bin").string(), checkpointHeader(deck, t), payload.str());
+      if (writer) io::writeCheckpointFile((out / "checkpoint.bin").string(), checkpointHeader(deck, t), payload.str());
       st.checkpoint_written = true;
       say(fmt::format("wrote checkpoint at t = {:.6g} s", t));
     }
     const auto now = std::chrono::steady_clock::now();
-    if (opt.progress && std::chrono::duration<double>(now - last_progress).count() > 2.0) {
+    if (opt.progress && writer && std::chrono::duration<double>(now - last_progress).count() > 2.0) {
       last_progress = now;
       const double wall = std::chrono::duration<double>(now - t_wall0).count();
       const double left = t > 0.0 ? wall * (t_end - t) / std::max(t - (opt.restart.empty() ? 0.0 : 0.0), 1e-30) : 0.0;
       std::fprintf(stderr, "t = %.4g ms / %.4g ms, step %lld, dt %.3g s, %zu cells, wall %.1f s, left ~%.0f s, impulse %.1f N s\n", t * 1e3,
-                   t_end * 1e3, static_cast<long long>(s.stats().steps), dt, g.interiorCells(), wall, left, ts.impulse);
+                   t_end * 1e3, static_cast<long long>(rs->stats().steps), dt, g.interiorCells(), wall, left, ts.impulse);
     }
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_wall0).count();
+  if (slab) s.assemble(*rs, *ex);   // the end state of the whole, for the books and the summary
 
   RunResult res;
   res.impulse_Ns = ts.impulse;
@@ -550,33 +620,35 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   for (int i = 0; i < g.cells(0); ++i) res.profile_r_m.push_back(g.centre(0, i));
   res.profile_times_s = st.profile_times;
   res.profiles_m = st.profiles;
-  io::writeFileAtomically(out / "history.csv", [&](std::ostream& os) {
-    for (std::size_t i = 0; i < res.history_columns.size(); ++i) os << (i ? "," : "") << res.history_columns[i];
-    os << "\n";
-    for (const auto& r : st.history) os << csvRow(r);
-  });
-  io::writeFileAtomically(out / "gauges.csv", [&](std::ostream& os) {
-    os << "t_s";
-    for (const auto& p : deck.output.gauges_m) os << fmt::format(",p_Pa@r{:g}_z{:g}", p[0], p[1]);
-    os << "\n";
-    for (const auto& r : st.gauges) os << csvRow(r);
-  });
-  io::writeFileAtomically(out / "surface_profiles.csv", [&](std::ostream& os) {
-    os << "r_m";
-    for (const double t : st.profile_times) os << fmt::format(",z_m@t{:.6g}s", t);
-    os << "\n";
-    for (int i = 0; i < g.cells(0); ++i) {
-      os << fmt::format("{:.6g}", g.centre(0, i));
-      for (const auto& p : st.profiles) os << fmt::format(",{:.6g}", p[static_cast<std::size_t>(i)]);
+  if (writer) {   // on MPI ranks, rank 0 writes the run folder
+    io::writeFileAtomically(out / "history.csv", [&](std::ostream& os) {
+      for (std::size_t i = 0; i < res.history_columns.size(); ++i) os << (i ? "," : "") << res.history_columns[i];
       os << "\n";
+      for (const auto& r : st.history) os << csvRow(r);
+    });
+    io::writeFileAtomically(out / "gauges.csv", [&](std::ostream& os) {
+      os << "t_s";
+      for (const auto& p : deck.output.gauges_m) os << fmt::format(",p_Pa@r{:g}_z{:g}", p[0], p[1]);
+      os << "\n";
+      for (const auto& r : st.gauges) os << csvRow(r);
+    });
+    io::writeFileAtomically(out / "surface_profiles.csv", [&](std::ostream& os) {
+      os << "r_m";
+      for (const double t : st.profile_times) os << fmt::format(",z_m@t{:.6g}s", t);
+      os << "\n";
+      for (int i = 0; i < g.cells(0); ++i) {
+        os << fmt::format("{:.6g}", g.centre(0, i));
+        for (const auto& p : st.profiles) os << fmt::format(",{:.6g}", p[static_cast<std::size_t>(i)]);
+        os << "\n";
+      }
+    });
+    std::vector<std::pair<double, std::string>> snaps;
+    for (std::size_t i = 0; i < st.field_times.size(); ++i) {
+      const std::string name = fmt::format("fields/field_{:04d}.vtr", i);
+      if (fs::exists(out / name)) snaps.push_back({st.field_times[i], name});
     }
-  });
-  std::vector<std::pair<double, std::string>> snaps;
-  for (std::size_t i = 0; i < st.field_times.size(); ++i) {
-    const std::string name = fmt::format("fields/field_{:04d}.vtr", i);
-    if (fs::exists(out / name)) snaps.push_back({st.field_times[i], name});
+    io::writeFileAtomically(out / "fields.pvd", [&](std::ostream& os) { io::writePvd(os, snaps); });
   }
-  io::writeFileAtomically(out / "fields.pvd", [&](std::ostream& os) { io::writePvd(os, snaps); });
   nlohmann::json sum;
   sum["ejecta_version"] = build_info::version;
   sum["title"] = deck.title;
@@ -639,8 +711,10 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   sum["run"] = {{"cells", res.cells},
                 {"steps", res.steps},
                 {"wall_seconds", res.wall_s},
-                {"cell_updates_per_second", res.wall_s > 0 ? s.stats().cell_updates / res.wall_s : 0.0},
+                {"cell_updates_per_second", res.wall_s > 0 ? static_cast<double>(res.steps - steps_before) * static_cast<double>(res.cells) / res.wall_s : 0.0},
                 {"core_cell_size_m", deck.mesh.cell_size_m},
+                {"ranks", opt.exchange ? opt.exchange->size() : 1},
+                {"threads", threadCount()},
                 {"restarted_from", opt.restart}};
   io::writeFileAtomically(out / "summary.json", sum.dump(2) + "\n");
   if (opt.plot) {
@@ -683,6 +757,7 @@ bool processAlive(long pid) { return pid > 0 && (::kill(static_cast<pid_t>(pid),
 // interrupted run leaves the previous complete folder as it was (and a killed one's staging
 // folder is removed by the next run into the same place).
 RunResult runCase(const Deck& deck, const RunOptions& opt) {
+  if (opt.exchange && opt.exchange->rank() != 0) return runStaged(deck, opt, fs::path());   // rank 0 writes the folder
   fs::path out = fs::path(opt.out_dir).lexically_normal();
   if (out.filename().empty()) out = out.parent_path();
   if (out.empty() || out.filename() == "." || out.filename() == "..")

@@ -9,6 +9,10 @@
 
 #include "scenario/deck.hpp"
 
+namespace ejecta::parallel {
+class Exchange;   // parallel/exchange.hpp
+}
+
 namespace ejecta::scenario {
 
 struct RunOptions {
@@ -18,6 +22,10 @@ struct RunOptions {
   bool progress = true;            // progress lines on stderr
   bool plot = true;
   std::function<void(const std::string&)> log;
+  // MPI ranks (more than one): every rank builds the case and runs the early time, then steps its
+  // slab of the run mesh (docs/solver.md); rank 0 alone writes the run folder and the result is
+  // the same on every rank, to the last bit of the impulse.
+  parallel::Exchange* exchange = nullptr;
 };
 
 struct RunResult {
