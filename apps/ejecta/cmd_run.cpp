@@ -86,7 +86,8 @@ Action addRunCommand(CLI::App& app) {
   auto o = std::make_shared<RunCliOptions>();
   auto* sub = app.add_subcommand("run", "Runs a buried-charge case from a TOML deck (default: the built-in EMI flat plate at 7%).\n"
                                         "Built-in decks: emi-flat-7, emi-flat-14, emi-flat-22, emi-v120-7, emi-v90-7 (3D), vimf-flat,\n"
-                                        "dres-3cm, dres-8cm, field-cover{22,14,7}-{5cm,2.5cm}, mesh-study.");
+                                        "dres-3cm, dres-8cm, field-cover{22,14,7}-{5cm,2.5cm}, mesh-study.\n"
+                                        "Under mpirun (a build with MPI) each rank steps a slab of the mesh: the same result to the last bit.");
   sub->add_option("deck", o->deck, "Deck file, or the name of a built-in deck");
   sub->add_option("--out", o->out, "Run folder (default out/run/<deck name>)");
   sub->add_option("--threads", o->threads, "OpenMP threads (default: all cores)");
