@@ -1,7 +1,10 @@
 // `ejecta run [DECK]`: the main job: one buried-charge case from its deck to a run folder.
+#include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <thread>
 
 #include <fmt/format.h>
 
@@ -39,7 +42,14 @@ int runRun(const RunCliOptions& o) {
     std::cout << scenario::deckReference(o.help_deck == "markdown");
     return 0;
   }
-  applyThreads(o.threads);
+  // on MPI ranks the cores of a node are shared among the ranks on it (OMPI_COMM_WORLD_LOCAL_SIZE)
+  int threads = o.threads;
+  if (threads == 0 && mpiRanks() > 1) {
+    const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
+    const int on_node = local ? std::max(1, std::atoi(local)) : mpiRanks();
+    threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()) / on_node);
+  }
+  applyThreads(threads);
   const std::string path = resolveDeck(o.deck);
   std::vector<std::string> overrides = o.sets;
   if (!o.cell_size_mm.empty()) overrides.push_back(cellSizeOverride(o.cell_size_mm));
@@ -87,10 +97,10 @@ Action addRunCommand(CLI::App& app) {
   auto* sub = app.add_subcommand("run", "Runs a buried-charge case from a TOML deck (default: the built-in EMI flat plate at 7%).\n"
                                         "Built-in decks: emi-flat-7, emi-flat-14, emi-flat-22, emi-v120-7, emi-v90-7 (3D), vimf-flat,\n"
                                         "dres-3cm, dres-8cm, field-cover{22,14,7}-{5cm,2.5cm}, mesh-study.\n"
-                                        "Under mpirun (a build with MPI) each rank steps a slab of the mesh: the same result to the last bit.");
+                                        "Under mpirun (a build with MPI) each rank steps a slab of the mesh: the same impulse and history to the last bit.");
   sub->add_option("deck", o->deck, "Deck file, or the name of a built-in deck");
   sub->add_option("--out", o->out, "Run folder (default out/run/<deck name>)");
-  sub->add_option("--threads", o->threads, "OpenMP threads (default: all cores)");
+  sub->add_option("--threads", o->threads, "OpenMP threads (default: all cores; on MPI ranks, the node's cores shared among its ranks)");
   sub->add_option("--cell-size", o->cell_size_mm, "Core cell size, mm (overrides mesh.cell_size_m)");
   sub->add_option("--set", o->sets, "Override a deck field: KEY=VALUE (dotted key, TOML value), repeatable");
   sub->add_option("--checkpoint-at", o->checkpoint_at, "Write <out>/checkpoint.bin when the run reaches this time, s");

@@ -178,8 +178,10 @@ void solveFaces(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
           // blast adds to the air's push, not the atmosphere on the plate's top; over the closed
           // body the reference sums to zero, so the total is the load itself
           const double imp = sign * (ps - S.load_reference) * P.area[sf] * dt;
-          bookLoadByMaterial(P, S, static_cast<int>(fluid), body_right ? 1 : -1, static_cast<std::size_t>(S.d), sign * ps * P.area[sf] * dt, imp, false,
-                             ledger);
+          // along axis 0 (the axis a domain is split along) a layer could reach past a slab's ghosts: the
+          // cell's own fractions there, so that the split is the same on any number of slabs
+          bookLoadByMaterial(P, S, static_cast<int>(fluid), body_right ? 1 : -1, static_cast<std::size_t>(S.d), sign * ps * P.area[sf] * dt, imp,
+                             S.d == 0, ledger);
         }
       }
       continue;
@@ -417,9 +419,10 @@ void lagrangeUpdate(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
         E -= w_body;
         if (interior) {
           ledger.target_work += w_body;
-          // between two body faces: the cell's own fractions at every depth
-          const bool between = P.solid[si - 1] && P.solid[si + 1];
-          bookLoadByMaterial(P, S, i, P.solid[si + 1] ? 1 : -1, comp, taken, taken, between, ledger);
+          // the friction by the cell's own fractions at every depth along axis 0 (a layer there could
+          // reach past a slab's ghosts) and between two body faces (there is no layer)
+          const bool cell_only = S.d == 0 || (P.solid[si - 1] && P.solid[si + 1]);
+          bookLoadByMaterial(P, S, i, P.solid[si + 1] ? 1 : -1, comp, taken, taken, cell_only, ledger);
         }
       }
     }

@@ -291,15 +291,14 @@ double Solver::pressure(std::size_t cell) const {
   return p;
 }
 
-Totals Solver::totals() const {
-  Totals t;
-  t.mass.assign(mats_.size(), 0.0);
-  t.internal_by_material.assign(mats_.size(), 0.0);
-  t.kinetic_by_material.assign(mats_.size(), 0.0);
-  t.boundary_in = energy_.boundary_in;
-  t.target_work = energy_.target_work;
-  t.gravity_work = energy_.gravity_work;
-  for (int i = 0; i < grid_.cells(0); ++i)
+// Per column of axis 0, in order: each material's mass, internal and kinetic energy, then the
+// momentum (3). Summed column after column (totalsOf), the whole's totals are the same numbers
+// whether its columns were summed in one process or gathered from its slabs.
+std::vector<double> Solver::columnTotals() const {
+  const std::size_t M = fields_.size(), R = 3 * M + 3;
+  std::vector<double> out(R * static_cast<std::size_t>(grid_.cells(0)), 0.0);
+  for (int i = 0; i < grid_.cells(0); ++i) {
+    double* col = out.data() + R * static_cast<std::size_t>(i);
     for (int j = 0; j < grid_.cells(1); ++j)
       for (int k = 0; k < grid_.cells(2); ++k) {
         const std::size_t c = grid_.index(i, j, k);
@@ -307,21 +306,44 @@ Totals Solver::totals() const {
         const double v = grid_.cellVolume(i, j, k);
         double m = 0.0;
         const double u2 = u_[0][c] * u_[0][c] + u_[1][c] * u_[1][c] + u_[2][c] * u_[2][c];
-        for (std::size_t q = 0; q < fields_.size(); ++q) {
+        for (std::size_t q = 0; q < M; ++q) {
           const double mq = fields_[q].alpha[c] * fields_[q].rho[c] * v;
-          t.mass[q] += mq;
-          t.internal_by_material[q] += mq * fields_[q].e[c];
-          t.kinetic_by_material[q] += 0.5 * mq * u2;
+          col[q] += mq;
+          col[M + q] += mq * fields_[q].e[c];
+          col[2 * M + q] += 0.5 * mq * u2;
           m += mq;
         }
-        for (std::size_t d = 0; d < 3; ++d) t.momentum[d] += m * u_[d][c];
+        for (std::size_t d = 0; d < 3; ++d) col[3 * M + d] += m * u_[d][c];
       }
-  for (std::size_t q = 0; q < fields_.size(); ++q) {
+  }
+  return out;
+}
+
+Totals Solver::totalsOf(const std::vector<double>& columns) const {
+  const std::size_t M = fields_.size(), R = 3 * M + 3;
+  Totals t;
+  t.mass.assign(M, 0.0);
+  t.internal_by_material.assign(M, 0.0);
+  t.kinetic_by_material.assign(M, 0.0);
+  t.boundary_in = energy_.boundary_in;
+  t.target_work = energy_.target_work;
+  t.gravity_work = energy_.gravity_work;
+  for (std::size_t at = 0; at + R <= columns.size(); at += R) {
+    for (std::size_t q = 0; q < M; ++q) {
+      t.mass[q] += columns[at + q];
+      t.internal_by_material[q] += columns[at + M + q];
+      t.kinetic_by_material[q] += columns[at + 2 * M + q];
+    }
+    for (std::size_t d = 0; d < 3; ++d) t.momentum[d] += columns[at + 3 * M + d];
+  }
+  for (std::size_t q = 0; q < M; ++q) {
     t.internal_energy += t.internal_by_material[q];
     t.kinetic_energy += t.kinetic_by_material[q];
   }
   return t;
 }
+
+Totals Solver::totals() const { return totalsOf(columnTotals()); }
 
 // The signal speed of one cell: the mixture's (volume-averaged stiffness over mixture density),
 // and each material's own where it holds at least 1% of the cell's mass. A nearly massless
@@ -383,7 +405,7 @@ std::string Solver::describeLimitingCell() const {
         }
       }
   const auto ix = grid_.unflatten(cell);
-  std::string s = fmt::format("limited by cell ({}, {}, {}) at x = ({:.4g}, {:.4g}, {:.4g}) m, velocity ({:.4g}, {:.4g}, {:.4g}) m/s:", ix.i, ix.j, ix.k,
+  std::string s = fmt::format("limited by cell ({}, {}, {}) at x = ({:.4g}, {:.4g}, {:.4g}) m, velocity ({:.4g}, {:.4g}, {:.4g}) m/s:", ix.i + grid_.offset0(), ix.j, ix.k,
                               grid_.centre(0, ix.i), grid_.centre(1, ix.j), grid_.centre(2, ix.k), u_[0][cell], u_[1][cell], u_[2][cell]);
   for (std::size_t q = 0; q < mats_.size(); ++q) {
     const auto& f = fields_[q];
@@ -507,14 +529,18 @@ Solver Solver::slab(int begin, int end) const {
 
 void Solver::assemble(const Solver& mine, parallel::Exchange& ex) {
   const auto& g = mine.grid_;
-  const int n1 = g.cells(1), n2 = g.cells(2);
-  // [offset, cells, the ledger (3)] then, per interior cell in (i, j, k) order: velocity, and each
-  // material's fraction, density, energy, history (and stress)
-  std::vector<double> out{static_cast<double>(g.offset0()), static_cast<double>(g.cells(0)), mine.energy_.boundary_in, mine.energy_.target_work,
-                          mine.energy_.gravity_work};
-  for (int i = 0; i < g.cells(0); ++i)
-    for (int j = 0; j < n1; ++j)
-      for (int k = 0; k < n2; ++k) {
+  const int g0 = kGhost;
+  // this slab's columns of axis 0 (with the domain's own ghost columns at its ends), transverse ghosts
+  // included, so that the whole's ghosts are what one process would hold
+  const int i_lo = g.offset0() == 0 ? -g0 : 0, i_hi = g.offset0() + g.cells(0) == g.globalCells0() ? g.cells(0) + g0 : g.cells(0);
+  const int j_lo = -g.ghost(1), j_hi = g.cells(1) + g.ghost(1), k_lo = -g.ghost(2), k_hi = g.cells(2) + g.ghost(2);
+  // [first column, last column + 1 (whole's indices), the ledger (3), cell updates] then, per cell in
+  // (i, j, k) order: velocity, and each material's fraction, density, energy, history (and stress)
+  std::vector<double> out{static_cast<double>(g.offset0() + i_lo), static_cast<double>(g.offset0() + i_hi), mine.energy_.boundary_in,
+                          mine.energy_.target_work, mine.energy_.gravity_work, mine.stats_.cell_updates};
+  for (int i = i_lo; i < i_hi; ++i)
+    for (int j = j_lo; j < j_hi; ++j)
+      for (int k = k_lo; k < k_hi; ++k) {
         const std::size_t c = g.index(i, j, k);
         for (std::size_t q = 0; q < 3; ++q) out.push_back(mine.u_[q][c]);
         for (const auto& f : mine.fields_) {
@@ -525,16 +551,18 @@ void Solver::assemble(const Solver& mine, parallel::Exchange& ex) {
       }
   const auto all = ex.gatherAll(out);
   energy_ = EnergyLedger{};
+  double updates = 0.0;
   std::size_t at = 0;
   for (int r = 0; r < ex.size(); ++r) {
-    const int offset = static_cast<int>(all.at(at)), cells = static_cast<int>(all.at(at + 1));
+    const int first = static_cast<int>(all.at(at)), last = static_cast<int>(all.at(at + 1));
     energy_.boundary_in += all.at(at + 2);
     energy_.target_work += all.at(at + 3);
     energy_.gravity_work += all.at(at + 4);
-    at += 5;
-    for (int i = offset; i < offset + cells; ++i)
-      for (int j = 0; j < n1; ++j)
-        for (int k = 0; k < n2; ++k) {
+    updates += all.at(at + 5);
+    at += 6;
+    for (int i = first; i < last; ++i)
+      for (int j = j_lo; j < j_hi; ++j)
+        for (int k = k_lo; k < k_hi; ++k) {
           const std::size_t c = grid_.index(i, j, k);
           for (std::size_t q = 0; q < 3; ++q) u_[q][c] = all.at(at++);
           for (auto& f : fields_) {
@@ -553,6 +581,7 @@ void Solver::assemble(const Solver& mine, parallel::Exchange& ex) {
   dt_free_ = mine.dt_free_;
   step_ = mine.step_;
   stats_ = mine.stats_;
+  stats_.cell_updates = updates;   // every slab's
   body_velocity_ = mine.body_velocity_;
   if (mesh_axis_ >= 0 && body_offset_ != mine.body_offset_) {
     body_offset_ = mine.body_offset_;
@@ -1084,7 +1113,7 @@ void Solver::checkCell(std::size_t cell, const char* stage) const {
     }
   }
   throw RunError(fmt::format("{} in cell ({}, {}, {}) at x = ({:.4g}, {:.4g}, {:.4g}) m, material {}, t = {:.6g} s, step {} ({})",
-                             what, ix.i, ix.j, ix.k, grid_.centre(0, ix.i), grid_.centre(1, ix.j), grid_.centre(2, ix.k), mat,
+                             what, ix.i + grid_.offset0(), ix.j, ix.k, grid_.centre(0, ix.i), grid_.centre(1, ix.j), grid_.centre(2, ix.k), mat,
                              time_, step_, stage));
 }
 

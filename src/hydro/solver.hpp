@@ -148,8 +148,10 @@ class Solver {
   // This solver's grid is one slab (mesh::Grid::slab) of a domain split along axis 0, and `ex`
   // connects it to the others: their ghost layers before each sweep, the smallest time step, and
   // the body's load summed in the whole domain's order, so that every slab steps exactly as the
-  // whole would (bit for bit; tests/unit/test_decomposition.cpp). The energy books, totals() and
-  // bodyLoad() stay this slab's own (the caller sums them). Call before the first step.
+  // whole would (bit for bit; tests/unit/test_decomposition.cpp). The energy books and totals()
+  // stay this slab's own (their sum over the slabs is the whole's to round-off); bodyLoad() on a
+  // slab is not its share (it skips faces whose flow cell is in a neighbour): take the whole's.
+  // Call before the first step.
   void setExchange(parallel::Exchange* ex);
   // This solver's slab [begin, end) of axis 0 as a solver of its own, in the same state (its cells,
   // ghosts included, the body, the moving mesh, the clock); the slab holding cell 0 keeps the energy
@@ -195,6 +197,11 @@ class Solver {
   double pressure(std::size_t cell) const;             // Pa, volume-fraction weighted
   double materialPressure(int mat, std::size_t cell) const;
   Totals totals() const;
+  // totals() in two steps, so that a domain split into slabs sums the same numbers: the sums of each
+  // column of axis 0 (per material: mass, internal, kinetic energy; then the momentum), and the
+  // totals of such columns in order (with this solver's energy books).
+  std::vector<double> columnTotals() const;
+  Totals totalsOf(const std::vector<double>& columns) const;
   const EnergyLedger& energyLedger() const { return energy_; }
 
  private:

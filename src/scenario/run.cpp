@@ -354,24 +354,18 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   std::unique_ptr<hydro::Solver> slab;
   hydro::Solver* rs = &s;
   auto totalsNow = [&]() {
-    auto t = rs->totals();
-    if (!slab) return t;
-    std::vector<double> v;
-    for (const auto* part : {&t.mass, &t.internal_by_material, &t.kinetic_by_material}) v.insert(v.end(), part->begin(), part->end());
-    v.insert(v.end(), {t.momentum[0], t.momentum[1], t.momentum[2], t.internal_energy, t.kinetic_energy, t.boundary_in, t.target_work, t.gravity_work});
-    const auto all = ex->gatherAll(v);
-    std::vector<double> sum(v.size(), 0.0);
-    for (std::size_t r = 0; r < all.size() / v.size(); ++r)
-      for (std::size_t i = 0; i < v.size(); ++i) sum[i] += all[r * v.size() + i];
-    std::size_t at = 0;
-    for (auto* part : {&t.mass, &t.internal_by_material, &t.kinetic_by_material})
-      for (auto& x : *part) x = sum[at++];
-    for (auto& m : t.momentum) m = sum[at++];
-    t.internal_energy = sum[at++];
-    t.kinetic_energy = sum[at++];
-    t.boundary_in = sum[at++];
-    t.target_work = sum[at++];
-    t.gravity_work = sum[at++];
+    if (!slab) return rs->totals();
+    // the cells' sums column by column in the whole's order (the same numbers as one process);
+    // the energy books summed over the slabs (to round-off)
+    auto t = rs->totalsOf(ex->gatherAll(rs->columnTotals()));
+    const auto& l = rs->energyLedger();
+    const auto books = ex->gatherAll({l.boundary_in, l.target_work, l.gravity_work});
+    t.boundary_in = t.target_work = t.gravity_work = 0.0;
+    for (std::size_t r = 0; r + 3 <= books.size(); r += 3) {
+      t.boundary_in += books[r];
+      t.target_work += books[r + 1];
+      t.gravity_work += books[r + 2];
+    }
     return t;
   };
   auto profileNow = [&]() {   // per column of axis 0: the slabs' columns in rank order are the whole's
@@ -540,6 +534,9 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
 
   // ---- on MPI ranks: from here each rank steps its slab of the run mesh
   if (ex) {
+    if (g.cells(0) < mesh::kGhost * ex->size())   // every rank finds it alike, so every rank stops
+      throw InputError("ranks", fmt::format("{} ranks need at least {} cells along the first axis ({} per slab); the mesh has {}", ex->size(),
+                                            mesh::kGhost * ex->size(), mesh::kGhost, g.cells(0)));
     const auto slabs = parallel::slabs(g.cells(0), ex->size());
     const auto& part = slabs[static_cast<std::size_t>(ex->rank())];
     slab = std::make_unique<hydro::Solver>(s.slab(part.begin, part.end));
@@ -716,8 +713,8 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
                 {"ranks", opt.exchange ? opt.exchange->size() : 1},
                 {"threads", threadCount()},
                 {"restarted_from", opt.restart}};
-  io::writeFileAtomically(out / "summary.json", sum.dump(2) + "\n");
-  if (opt.plot) {
+  if (writer) io::writeFileAtomically(out / "summary.json", sum.dump(2) + "\n");
+  if (opt.plot && writer) {
     const fs::path data = io::temporarySibling(out / "plot_data.json");
     nlohmann::json pd;
     pd["title"] = deck.title;

@@ -13,9 +13,10 @@ check() {   # name, then a command that must succeed
   if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; fails=$((fails + 1)); fi
 }
 ranks() { local n=$1; shift; "$mpiexec" -np "$n" --oversubscribe "$ejecta" "$@"; }
-same() {   # folders a and b: the printed impulse and the run's tables are the same
+same() {   # folders a and b: the printed impulse, the run's tables and summary.json's results are the same
   cmp -s "$1/history.csv" "$2/history.csv" && cmp -s "$1/gauges.csv" "$2/gauges.csv" && cmp -s "$1/surface_profiles.csv" "$2/surface_profiles.csv" \
-    && [[ "$(grep impulse "$1.out")" == "$(grep impulse "$2.out")" ]] && [[ -n "$(grep impulse "$1.out")" ]]
+    && [[ "$(grep impulse "$1.out")" == "$(grep impulse "$2.out")" ]] && [[ -n "$(grep impulse "$1.out")" ]] \
+    && python3 -c "import json,sys; a,b=(json.load(open(f+'/summary.json')) for f in sys.argv[1:]); sys.exit(a['result']!=b['result'] or a['totals']!=b['totals'])" "$1" "$2"
 }
 flat=(run emi-flat-22 --cell-size 40 --set end_time_s=0.001 --no-plot --quiet)
 "$ejecta" "${flat[@]}" --out f1 > f1.out 2>/dev/null
@@ -24,6 +25,7 @@ ranks 3 "${flat[@]}" --out f3 > f3.out 2>/dev/null
 check "2D: 2 ranks as 1 process ($(grep impulse f1.out | xargs))" "same f1 f2"
 check "2D: 3 ranks as 1 process" "same f1 f3"
 check "2D: summary.json records the ranks" "grep -q '\"ranks\": 3' f3/summary.json"
+check "ranks other than 0 write nothing beside the run folders ($(ls | tr '\n' ' '))" "[[ \$(ls | grep -cv -e '^f[123]\$' -e '^f[123].out\$') -eq 0 ]]"
 v=(run emi-v120-7 --cell-size 60 --set end_time_s=0.0005 --no-plot --quiet)
 "$ejecta" "${v[@]}" --out v1 > v1.out 2>/dev/null
 ranks 2 "${v[@]}" --out v2 > v2.out 2>/dev/null

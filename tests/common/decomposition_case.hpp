@@ -54,7 +54,8 @@ inline hydro::Solver makeBlock(const mesh::Grid& grid) {
 }
 
 struct Run {
-  std::vector<double> impulse;   // the body's vertical impulse of each step
+  std::vector<double> impulse;    // the body's vertical impulse of each step
+  std::vector<double> by_parts;   // ...by material, and by material within each depth of the wall (every step)
 };
 
 // The modelled part of the whole: 2 pi per radian (axisymmetric), 4 quarters (3D).
@@ -72,6 +73,10 @@ inline Run advance(hydro::Solver& s, int steps) {
     s.setBodyVelocity(w);
     s.step(dt);
     r.impulse.push_back(s.lastBodyImpulse()[up]);
+    for (std::size_t k = 0; k < static_cast<std::size_t>(s.materialCount()); ++k) {
+      r.by_parts.push_back(s.lastBodyImpulseByMaterial()[k][up]);
+      for (int l = 0; l < hydro::kNearWallDepths; ++l) r.by_parts.push_back(s.lastBodyImpulseNearWall(l)[k][up]);
+    }
     v += symmetry(s) * s.lastBodyImpulse()[up] / 50.0 - 9.81 * dt;
   }
   return r;

@@ -94,6 +94,7 @@ void splitMatchesWhole(int dims, int parts, int steps) {
   EXPECT_GT(std::abs(work), 0.0);
   for (int r = 0; r < parts; ++r) {
     EXPECT_EQ(runs[static_cast<std::size_t>(r)].impulse, ref.impulse) << "slab " << r;
+    EXPECT_EQ(runs[static_cast<std::size_t>(r)].by_parts, ref.by_parts) << "slab " << r;   // the splits too (10 mm cells, layers to 40 mm)
     expectSameCells(whole, *blocks[static_cast<std::size_t>(r)]);
   }
 }
