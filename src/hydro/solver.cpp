@@ -942,7 +942,19 @@ std::size_t Solver::scatterPencil(const Pencil& P, int d, std::size_t base) {
       loss[k] = ke_in[k] - 0.5 * mk_new[k] * u2;
       heat += loss[k];
     }
-    shareHeat(M, mk_new, loss, heat, ie_new, add);
+    // a cell of one material (most of the domain) keeps its own heat: what shareHeat gives it too,
+    // to the bit, without its loops
+    int held_by = -1, holders = 0;
+    for (int k = 0; k < M; ++k)
+      if (mk_new[k] > 0.0) {
+        held_by = k;
+        ++holders;
+      }
+    if (holders == 1 && lost == 0.0) {
+      for (int k = 0; k < M; ++k) add[k] = k == held_by ? heat : 0.0;
+    } else {
+      shareHeat(M, mk_new, loss, heat, ie_new, add);
+    }
     const double V = P.vol[si];
     bool ok = m > 0.0 && std::isfinite(m);
     for (int k = 0; k < M; ++k) {
