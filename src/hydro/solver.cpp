@@ -527,6 +527,30 @@ Solver Solver::slab(int begin, int end) const {
   return s;
 }
 
+// One cell's state as a slab sends it: the velocity, then each material's fraction, density,
+// energy, history (and stress, with strength). The halo swap and the assembly share the order.
+void Solver::packCell(std::size_t c, std::vector<double>& out) const {
+  for (std::size_t q = 0; q < 3; ++q) out.push_back(u_[q][c]);
+  for (const auto& f : fields_) {
+    out.insert(out.end(), {f.alpha[c], f.rho[c], f.e[c], f.h0[c]});
+    if (!f.s[0].empty())
+      for (const auto& sc : f.s) out.push_back(sc[c]);
+  }
+}
+
+std::size_t Solver::unpackCell(std::size_t c, const std::vector<double>& in, std::size_t at) {
+  for (std::size_t q = 0; q < 3; ++q) u_[q][c] = in.at(at++);
+  for (auto& f : fields_) {
+    f.alpha[c] = in.at(at++);
+    f.rho[c] = in.at(at++);
+    f.e[c] = in.at(at++);
+    f.h0[c] = in.at(at++);
+    if (!f.s[0].empty())
+      for (auto& sc : f.s) sc[c] = in.at(at++);
+  }
+  return at;
+}
+
 void Solver::assemble(const Solver& mine, parallel::Exchange& ex) {
   const auto& g = mine.grid_;
   const int g0 = kGhost;
@@ -534,21 +558,13 @@ void Solver::assemble(const Solver& mine, parallel::Exchange& ex) {
   // included, so that the whole's ghosts are what one process would hold
   const int i_lo = g.offset0() == 0 ? -g0 : 0, i_hi = g.offset0() + g.cells(0) == g.globalCells0() ? g.cells(0) + g0 : g.cells(0);
   const int j_lo = -g.ghost(1), j_hi = g.cells(1) + g.ghost(1), k_lo = -g.ghost(2), k_hi = g.cells(2) + g.ghost(2);
-  // [first column, last column + 1 (whole's indices), the ledger (3), cell updates] then, per cell in
-  // (i, j, k) order: velocity, and each material's fraction, density, energy, history (and stress)
+  // [first column, last column + 1 (whole's indices), the ledger (3), cell updates] then each cell
+  // in (i, j, k) order (packCell)
   std::vector<double> out{static_cast<double>(g.offset0() + i_lo), static_cast<double>(g.offset0() + i_hi), mine.energy_.boundary_in,
                           mine.energy_.target_work, mine.energy_.gravity_work, mine.stats_.cell_updates};
   for (int i = i_lo; i < i_hi; ++i)
     for (int j = j_lo; j < j_hi; ++j)
-      for (int k = k_lo; k < k_hi; ++k) {
-        const std::size_t c = g.index(i, j, k);
-        for (std::size_t q = 0; q < 3; ++q) out.push_back(mine.u_[q][c]);
-        for (const auto& f : mine.fields_) {
-          out.insert(out.end(), {f.alpha[c], f.rho[c], f.e[c], f.h0[c]});
-          if (!f.s[0].empty())
-            for (const auto& sc : f.s) out.push_back(sc[c]);
-        }
-      }
+      for (int k = k_lo; k < k_hi; ++k) mine.packCell(g.index(i, j, k), out);
   const auto all = ex.gatherAll(out);
   energy_ = EnergyLedger{};
   double updates = 0.0;
@@ -562,18 +578,7 @@ void Solver::assemble(const Solver& mine, parallel::Exchange& ex) {
     at += 6;
     for (int i = first; i < last; ++i)
       for (int j = j_lo; j < j_hi; ++j)
-        for (int k = k_lo; k < k_hi; ++k) {
-          const std::size_t c = grid_.index(i, j, k);
-          for (std::size_t q = 0; q < 3; ++q) u_[q][c] = all.at(at++);
-          for (auto& f : fields_) {
-            f.alpha[c] = all.at(at++);
-            f.rho[c] = all.at(at++);
-            f.e[c] = all.at(at++);
-            f.h0[c] = all.at(at++);
-            if (!f.s[0].empty())
-              for (auto& sc : f.s) sc[c] = all.at(at++);
-          }
-        }
+        for (int k = k_lo; k < k_hi; ++k) at = unpackCell(grid_.index(i, j, k), all, at);
   }
   // the clock, the controller, the body and its mesh: the same on every slab
   time_ = mine.time_;
@@ -590,13 +595,13 @@ void Solver::assemble(const Solver& mine, parallel::Exchange& ex) {
 }
 
 void Solver::exchangeHalo(bool weights) {
-  if (!halo_lo_ && !halo_hi_ && !exchange_) return;
+  if (!halo_lo_ && !halo_hi_) return;
   const int n = grid_.cells(0), g = kGhost;
   const int lo1 = -grid_.ghost(1), hi1 = grid_.cells(1) + grid_.ghost(1), lo2 = -grid_.ghost(2), hi2 = grid_.cells(2) + grid_.ghost(2);
   const std::size_t total = grid_.totalCells();
   const int M = materialCount();
   // every cell of `g` layers starting at column i0, transverse ghosts included, in one order
-  auto each = [&](int i0, const std::function<void(std::size_t)>& f) {
+  auto each = [&](int i0, auto&& f) {
     for (int q = 0; q < g; ++q)
       for (int j = lo1; j < hi1; ++j)
         for (int k = lo2; k < hi2; ++k) f(grid_.index(i0 + q, j, k));
@@ -604,38 +609,19 @@ void Solver::exchangeHalo(bool weights) {
   auto pack = [&](int i0) {
     std::vector<double> out;
     each(i0, [&](std::size_t c) {
-      if (weights) {
-        for (int m = 0; m < M; ++m) out.push_back(wlic_[static_cast<std::size_t>(m) * total + c]);
-        return;
-      }
-      for (std::size_t q = 0; q < 3; ++q) out.push_back(u_[q][c]);
-      for (const auto& f : fields_) {
-        out.push_back(f.alpha[c]);
-        out.push_back(f.rho[c]);
-        out.push_back(f.e[c]);
-        out.push_back(f.h0[c]);
-        if (!f.s[0].empty())
-          for (const auto& sc : f.s) out.push_back(sc[c]);
-      }
+      if (!weights) return packCell(c, out);
+      for (int m = 0; m < M; ++m) out.push_back(wlic_[static_cast<std::size_t>(m) * total + c]);
     });
     return out;
   };
   auto unpack = [&](int i0, const std::vector<double>& in) {
     std::size_t at = 0;
     each(i0, [&](std::size_t c) {
-      if (weights) {
-        for (int m = 0; m < M; ++m) wlic_[static_cast<std::size_t>(m) * total + c] = in.at(at++);
+      if (!weights) {
+        at = unpackCell(c, in, at);
         return;
       }
-      for (std::size_t q = 0; q < 3; ++q) u_[q][c] = in.at(at++);
-      for (auto& f : fields_) {
-        f.alpha[c] = in.at(at++);
-        f.rho[c] = in.at(at++);
-        f.e[c] = in.at(at++);
-        f.h0[c] = in.at(at++);
-        if (!f.s[0].empty())
-          for (auto& sc : f.s) sc[c] = in.at(at++);
-      }
+      for (int m = 0; m < M; ++m) wlic_[static_cast<std::size_t>(m) * total + c] = in.at(at++);
     });
     if (at != in.size()) throw RunError("a neighbouring slab sent a halo of the wrong size");
   };

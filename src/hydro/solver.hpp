@@ -207,7 +207,9 @@ class Solver {
  private:
   void fillGhosts(int d);
   void exchangeHalo(bool weights);   // axis 0's ghost layers from the neighbouring slabs: the state, or the interface weights
-  void combineBodyLoad(const std::vector<double>& events);   // the body's load of a sweep, summed in the whole's order
+  void combineBodyLoad(const std::vector<double>& events);
+  void packCell(std::size_t c, std::vector<double>& out) const;   // one cell's state, in the slabs' order
+  std::size_t unpackCell(std::size_t c, const std::vector<double>& in, std::size_t at);   // returns the next position   // the body's load of a sweep, summed in the whole's order
   void interfaceWeights(int d);
   void sweep(int d, double dt);
   void gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, const SweepSetup& S) const;
