@@ -10,8 +10,9 @@
 // cells minus M U^2/2, never negative) is returned as heat, to each material as it lost it
 // (shareHeat), so each material's mass, the cell's momentum and the total energy are exact.
 //
-// 2D axisymmetric into 3D (the V-plate work) is the same sums over source cells with weights:
-// each 3D target cell's overlap with an (r, z) ring; only the overlap weights change.
+// 2D axisymmetric into a 3D quarter (the V-plate work) is the same sums over source cells with
+// weights: each 3D cell's overlap with an (r, z) ring, and the overlap's angular moments to turn
+// the radial momentum and the stress into x and y.
 #include <cstddef>
 
 #include "hydro/solver.hpp"
@@ -28,5 +29,20 @@ struct RezoneReport {
 // materials in the same order, the same geometry, and nested meshes where they overlap (throws
 // InputError otherwise). The target's other cells are left as they are.
 RezoneReport mapNested(const Solver& source, Solver& target);
+
+// The part of the ring r0 <= r < r1 inside the rectangle [x0, x1] x [y0, y1] (x0, y0 >= 0), m2,
+// and the integrals over it of cos(theta), sin(theta), cos(2 theta), sin(2 theta) dA.
+struct RingOverlap {
+  double area = 0.0, cos = 0.0, sin = 0.0, cos2 = 0.0, sin2 = 0.0;
+};
+RingOverlap ringOverlap(double x0, double x1, double y0, double y1, double r0, double r1);
+
+// Maps an axisymmetric (r, z) state onto a 3D quarter (x, y >= 0, z up) that starts on the axis:
+// along z the meshes nest; across, each quarter column takes its overlap with each ring (scaled so
+// each ring's area and first moments sum exactly). Per material the mass and energy map exactly
+// (the source's quantities per radian times pi / 2, a quarter turn), the momentum turned into x
+// and y exactly, the stress turned by the overlap's moments. A column the rings cover in part
+// keeps its own contents in the rest. Throws InputError if a body is in the way.
+RezoneReport mapAxisymmetricToQuarter(const Solver& source, Solver& target);
 
 }  // namespace ejecta::hydro

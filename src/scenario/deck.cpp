@@ -127,7 +127,7 @@ std::vector<Key> makeKeys() {
 
       flag("early", "enabled", in<&Deck::early, &EarlySpec::enabled>,
            "run the detonation and first expansion on a fine nested block and map it onto the run mesh (docs/solver.md, Early time); "
-           "used where the run's cells give fewer than cells_per_charge_height over the charge; 2D only"),
+           "used where the run's cells give fewer than cells_per_charge_height over the charge; a 3D run takes the axisymmetric block onto its quarter (a round charge; the block stays below the target)"),
       number("early", "cells_per_charge_height", in<&Deck::early, &EarlySpec::cells_per_charge_height>, "-", {4.0, 200.0}, "the fine block's resolution"),
       number("early", "map_time_s", in<&Deck::early, &EarlySpec::map_time_s>, "s", {0.0, 1e-3},
              "map no later than this; 0: when the fastest wave could reach the block's edge"),
@@ -397,11 +397,16 @@ void checkConsistency(const Deck& d) {
   auto within = [](const std::string& key, double v, double lo, double hi, const std::string& bounds) {
     if (!(v >= lo && v <= hi)) throw InputError(key, fmt::format("{:g} m is out of range; valid {} = [{:g}, {:g}] m", v, bounds, lo, hi));
   };
-  within("target.half_length_m", t.half_length_m, 0.0, m.domain_radius_m, "(0, mesh.domain_radius_m]");
-  within("target.half_width_m", t.half_width_m, 0.0, m.domain_radius_m, "(0, mesh.domain_radius_m]");
-  if (t.kind != "none") {
+  // each kind's own extents (the others' defaults do not apply to it)
+  if (t.kind == "rectangle" || t.kind == "v") {
+    within("target.half_length_m", t.half_length_m, 0.0, m.domain_radius_m, "(0, mesh.domain_radius_m]");
+    within("target.half_width_m", t.half_width_m, 0.0, m.domain_radius_m, "(0, mesh.domain_radius_m]");
+  }
+  if (t.kind == "disc" || t.kind == "annulus") {
     within("target.radius_m", t.radius_m, 0.0, m.domain_radius_m, "(0, mesh.domain_radius_m]");
     within("target.inner_radius_m", t.inner_radius_m, 0.0, t.radius_m, "[0, target.radius_m]");
+  }
+  if (t.kind != "none") {
     within("target.thickness_m", t.thickness_m, m.cell_size_m, 1.0, "[mesh.cell_size_m, 1]");
     within("target.standoff_m", t.standoff_m, 0.0, m.domain_top_m, "[0, mesh.domain_top_m]");
     if (t.motion == "free" && !(t.mass_kg > 0.0))

@@ -214,9 +214,11 @@ std::size_t cellAt(const mesh::Grid& g, int up, double r, double z) {
 }
 
 // The early-time fine block for this deck on this run mesh, or nothing where the run's own cells
-// resolve the charge (or the case is 3D: the 2D-to-3D mapping is the V-plate work's). The block is
-// whole cells of the run's uniform core around the charge, so the meshes nest; the map time is
-// when the fastest wave (early.signal_speed_m_s) could first reach the block's nearest cut side.
+// resolve the charge. The block is axisymmetric (r, z) and spans whole cells of the run's uniform
+// core around the charge, so along z (and along r in 2D) the meshes nest; a 3D run takes it onto
+// its quarter by each column's overlap with the rings, so there the block must stay below the
+// target and the charge must be round (not a box). The map time is when the fastest wave
+// (early.signal_speed_m_s) could first reach the block's nearest cut side.
 struct EarlyPlan {
   FineBlock block;
   int ratio = 1;          // run cells per fine cell along each axis
@@ -227,7 +229,9 @@ std::optional<EarlyPlan> planEarly(const Deck& deck, const Case& cs) {
   const auto& e = deck.early;
   const double H = cs.charge.height_m;
   const auto& g = cs.solver->grid();
-  if (!e.enabled || cs.vertical != 1) return std::nullopt;
+  const bool three_d = cs.vertical == 2;
+  const int up = cs.vertical;
+  if (!e.enabled || (three_d && deck.charge.shape == "box")) return std::nullopt;
   // the run's core cells (the radial core is divided evenly, so its width may differ from
   // mesh.cell_size_m by a fraction; the vertical one is laid from z = 0 at that size)
   auto widthAt = [&g](int d, double x) {
@@ -235,7 +239,7 @@ std::optional<EarlyPlan> planEarly(const Deck& deck, const Case& cs) {
     const int i = std::clamp(static_cast<int>(std::upper_bound(f.begin(), f.end(), x) - f.begin()) - 1, 0, g.cells(d) - 1);
     return f[static_cast<std::size_t>(i) + 1] - f[static_cast<std::size_t>(i)];
   };
-  const double wr = widthAt(0, 0.5 * cs.charge.radius_m), wz = widthAt(1, 0.5 * (cs.charge.z_top_m + cs.charge.z_bottom_m));
+  const double wr = widthAt(0, 0.5 * cs.charge.radius_m), wz = widthAt(up, 0.5 * (cs.charge.z_top_m + cs.charge.z_bottom_m));
   const double h = std::max(wr, wz);
   if (h * e.cells_per_charge_height <= H * (1.0 + 1e-9)) return std::nullopt;
   EarlyPlan p;
@@ -259,7 +263,7 @@ std::optional<EarlyPlan> planEarly(const Deck& deck, const Case& cs) {
   p.burn_time_s = std::hypot(ch.radius_m, ch.height_m) / ex.d_cj;
   // the block scales with the charge: by default it holds the fastest wave for four burn times
   const double margin = e.block_margin_m > 0.0 ? e.block_margin_m : 4.0 * p.burn_time_s * e.signal_speed_m_s;
-  const auto rf = core(0, 0.5 * ch.radius_m), zf = core(1, 0.5 * (ch.z_top_m + ch.z_bottom_m));
+  const auto rf = core(0, 0.5 * ch.radius_m), zf = core(up, 0.5 * (ch.z_top_m + ch.z_bottom_m));
   auto firstAtOrAbove = [](const std::vector<double>& f, double x) { const auto it = std::lower_bound(f.begin(), f.end(), x - 1e-12); return it == f.end() ? f.back() : *it; };
   auto lastAtOrBelow = [](const std::vector<double>& f, double x) { auto it = std::upper_bound(f.begin(), f.end(), x + 1e-12); return it == f.begin() ? f.front() : *(it - 1); };
   p.block.r_max_m = firstAtOrAbove(rf, ch.radius_m + margin);
@@ -271,9 +275,11 @@ std::optional<EarlyPlan> planEarly(const Deck& deck, const Case& cs) {
     const double gap = mesh::kGhost * h;
     const auto& pl = cs.plate;
     const bool under = pl.r_inner_m < p.block.r_max_m;   // the target spans the block's radius
-    if (under && p.block.z_hi_m > pl.z_bottom_m - gap && p.block.z_hi_m < pl.z_top_m + gap)
+    if (three_d) {   // the block holds no target: it ends at or below the target's lowest point
+      if (p.block.z_hi_m > pl.z_bottom_m) p.block.z_hi_m = lastAtOrBelow(zf, pl.z_bottom_m);
+    } else if (under && p.block.z_hi_m > pl.z_bottom_m - gap && p.block.z_hi_m < pl.z_top_m + gap)
       p.block.z_hi_m = lastAtOrBelow(zf, pl.z_bottom_m - gap);
-    const bool beside = pl.z_bottom_m < p.block.z_hi_m && pl.z_top_m > p.block.z_lo_m;
+    const bool beside = !three_d && pl.z_bottom_m < p.block.z_hi_m && pl.z_top_m > p.block.z_lo_m;
     for (const double face : {pl.r_inner_m, pl.r_outer_m})
       if (beside && face > 0.0 && std::abs(p.block.r_max_m - face) < gap) p.block.r_max_m = lastAtOrBelow(rf, face - gap);
   }
@@ -459,11 +465,20 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   nlohmann::json early_json = {{"enabled", deck.early.enabled}, {"used", false}};
   if (const auto plan = opt.restart.empty() ? planEarly(deck, cs) : std::nullopt) {
     const auto t_early0 = std::chrono::steady_clock::now();
-    Case fine = buildCase(deck, &plan->block);
+    // A 3D run's block is the same deck's axisymmetric case, without the target (it lies above).
+    const bool onto_3d = cs.vertical == 2;
+    Deck deck_rz = deck;
+    if (onto_3d) {
+      deck_rz.geometry = "axisymmetric";
+      deck_rz.target.kind = "none";
+    }
+    Case fine = buildCase(deck_rz, &plan->block);
     auto& fs_ = *fine.solver;
+    // per radian (the block) -> the run's part of the whole (a quarter in 3D, per radian in 2D)
+    const double to_run = onto_3d ? 0.5 * M_PI : 1.0;
     // The target on the fine block is the run mesh's, cell for cell (the staircase of a run cell
     // is the staircase of its fine cells), so that the mapping moves no material into the target.
-    if (cs.plate.present)
+    if (cs.plate.present && !onto_3d)
       fs_.setBody([&g, &s](const hydro::Vec3& x) {
         auto at = [&g](int d, double v) {
           const auto& f = g.axis(d).faces();
@@ -477,13 +492,13 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
                     cs.charge.height_m / plan->block.cell_size_m, 1e6 * plan->map_time_s));
     const double e_fine0 = fs_.totals().total();
     // the load at rest on the part of the target inside the block (the rest is undisturbed)
-    const double static_fine = cs.plate.present ? cs.symmetry * fs_.bodyLoad()[up] : 0.0;
+    const double static_fine = cs.plate.present && !onto_3d ? cs.symmetry * fs_.bodyLoad()[up] : 0.0;
     auto last = std::chrono::steady_clock::now();
     while (fs_.time() < plan->map_time_s * (1.0 - 1e-12)) {
       const double dt = fs_.nextTimeStep(plan->map_time_s);
-      fs_.setBodyVelocity(target.wallVelocity(ts));
+      if (!onto_3d) fs_.setBodyVelocity(target.wallVelocity(ts));
       fs_.step(dt);
-      target.bookStep(fs_, static_fine, dt, ts);
+      if (!onto_3d) target.bookStep(fs_, static_fine, dt, ts);
       const auto now = std::chrono::steady_clock::now();
       if (opt.progress && std::chrono::duration<double>(now - last).count() > 2.0) {
         last = now;
@@ -495,7 +510,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     // The block must have held everything until the map: what crossed its cut sides never reaches
     // the run mesh outside it (the books would still close, so this is checked on its own).
     const double charge_energy = deck.charge.mass_kg * s.materials()[1].jwl.e0 / s.materials()[1].jwl.rho0;
-    const double leaked = std::abs(cs.symmetry * fine_tot.boundary_in);
+    const double leaked = std::abs(fine.symmetry * fine_tot.boundary_in);
     std::vector<std::string> early_warnings;
     if (leaked > 1e-3 * charge_energy)
       early_warnings.push_back(fmt::format("{:.3g} J ({:.2g}% of the charge's energy) crossed the fine block's cut sides before the map; "
@@ -505,10 +520,11 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
       early_warnings.push_back(fmt::format("the map time {:.3g} us comes before the burn ends ({:.3g} us): the run mesh finishes the burn",
                                            1e6 * fs_.time(), 1e6 * plan->burn_time_s));
     for (const auto& w : early_warnings) say("early time: warning: " + w);
-    const auto rz = hydro::mapNested(fs_, s);
-    s.startAt(fs_.time(), fs_.energyLedger());
+    const auto rz = onto_3d ? hydro::mapAxisymmetricToQuarter(fs_, s) : hydro::mapNested(fs_, s);
+    const auto& led = fs_.energyLedger();
+    s.startAt(fs_.time(), {to_run * led.boundary_in, to_run * led.target_work, to_run * led.gravity_work});
     // the initial energy as the fine run painted the block: the books then close over both runs
-    st.energy_initial = s.totals().total() - fine_tot.total() + e_fine0;
+    st.energy_initial = s.totals().total() - to_run * (fine_tot.total() - e_fine0);
     const double wall_early = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_early0).count();
     early_json = {{"enabled", true},
                   {"used", true},
@@ -520,9 +536,10 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
                   {"steps", fs_.stats().steps},
                   {"map_time_s", fs_.time()},
                   {"burn_time_s", plan->burn_time_s},
+                  {"mapping", onto_3d ? "axisymmetric block onto the 3D quarter" : "nested"},
                   {"mapped_run_cells", rz.target_cells},
                   {"mapping_heat_J", cs.symmetry * rz.heat_J},
-                  {"boundary_flux_J", -cs.symmetry * fine_tot.boundary_in},
+                  {"boundary_flux_J", -fine.symmetry * fine_tot.boundary_in},
                   {"warnings", early_warnings},
                   {"wall_seconds", wall_early}};
     say(fmt::format("early time: mapped {} fine cells onto {} run cells at t = {:.3g} us ({:.1f} s); the kinetic energy one velocity per run cell "

@@ -281,6 +281,147 @@ TEST(Rezone, MeshesThatDoNotNestAreRefused) {
   EXPECT_THROW(hydro::mapNested(fine, coarse), InputError);
 }
 
+TEST(Rezone, RingOverlapAgainstClosedForms) {
+  // a rectangle wholly inside the ring: its area and the moments of a box
+  const auto in = hydro::ringOverlap(0.3, 0.4, 0.1, 0.2, 0.0, 1.0);
+  EXPECT_NEAR(in.area, 0.01, 1e-12);
+  // int x / r dA over the box, by a fine midpoint sum
+  double c = 0.0, sn = 0.0;
+  const int n = 1000;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const double x = 0.3 + (i + 0.5) * 0.1 / n, y = 0.1 + (j + 0.5) * 0.1 / n, r = std::hypot(x, y);
+      c += x / r * 1e-2 / (n * n);
+      sn += y / r * 1e-2 / (n * n);
+    }
+  EXPECT_NEAR(in.cos, c, 1e-8);
+  EXPECT_NEAR(in.sin, sn, 1e-8);
+  // the unit square over the quarter disc of radius 1: pi / 4, first moments 1/2, int sin 2t = 1/2
+  const auto q = hydro::ringOverlap(0.0, 1.0, 0.0, 1.0, 0.0, 1.0);
+  EXPECT_NEAR(q.area, 0.25 * M_PI, 1e-9);
+  EXPECT_NEAR(q.cos, 0.5, 1e-9);
+  EXPECT_NEAR(q.sin, 0.5, 1e-9);
+  EXPECT_NEAR(q.cos2, 0.0, 1e-9);
+  EXPECT_NEAR(q.sin2, 0.5, 1e-9);
+  // a ring cut by a square in its corner: the pieces of a split square add up
+  const auto whole = hydro::ringOverlap(0.0, 0.6, 0.0, 0.6, 0.4, 0.7);
+  double parts = 0.0;
+  for (const double x0 : {0.0, 0.2, 0.4})
+    for (const double y0 : {0.0, 0.3}) parts += hydro::ringOverlap(x0, x0 + 0.2, y0, y0 + 0.3, 0.4, 0.7).area;
+  EXPECT_NEAR(parts, whole.area, 1e-9);
+  // a square holding the quarter ring: the quarter ring
+  EXPECT_NEAR(hydro::ringOverlap(0.0, 1.0, 0.0, 1.0, 0.4, 0.7).area, 0.25 * M_PI * (0.49 - 0.16), 1e-12);
+  EXPECT_EQ(hydro::ringOverlap(0.5, 0.6, 0.5, 0.6, 0.0, 0.3).area, 0.0);
+}
+
+TEST(Rezone, AxisymmetricIntoAQuarterKeepsMassEnergyAndTurnsTheMomentum) {
+  // An (r, z) state with a products ball in air, radial and axial velocity, mapped into a 3D quarter
+  // whose columns are coarser than the rings and whose corner columns the rings cover in part.
+  hydro::SolverOptions o;
+  for (auto& b : o.boundary) b = {BoundaryKind::Reflect, BoundaryKind::Transmit};
+  const std::vector<materials::Material> mats{materials::air(), materials::explosive("CompB"),
+                                              materials::sand(materials::SandInputs::fromWetDensity(1500.0, 0.1), "sand")};
+  hydro::Solver axi(mesh::Grid(2, mesh::Geometry::Axisymmetric, {Axis::uniform(0.0, 0.3, 45), Axis::uniform(-0.15, 0.15, 48), Axis{}}), mats, o);
+  hydro::Solver quarter(mesh::Grid(3, mesh::Geometry::Cartesian, {Axis::uniform(0.0, 0.4, 8), Axis::uniform(0.0, 0.4, 8), Axis::uniform(-0.25, 0.25, 10)}),
+                        mats, o);
+  for (auto* s : {&axi, &quarter}) s->paint(0, [](const Vec3&) { return true; }, 1.225, 2e5);
+  axi.paint(2, [](const Vec3& x) { return x[1] < 0.0; }, mats[2].referenceDensity(), 100.0, {}, 4);
+  axi.paint(1, [](const Vec3& x) { return std::hypot(x[0], x[1]) < 0.11; }, 1717.0, 5e6, {}, 8);
+  quarter.paint(2, [](const Vec3& x) { return x[2] < 0.0; }, mats[2].referenceDensity(), 100.0);
+  const auto& g = axi.grid();
+  double radial = 0.0;   // per radian: sum of m u_r
+  for (int i = 0; i < g.cells(0); ++i)
+    for (int j = 0; j < g.cells(1); ++j) {
+      const std::size_t c = g.index(i, j, 0);
+      axi.setVelocity(c, {300.0 * g.centre(0, i), 200.0 * std::sin(20.0 * g.centre(1, j)), 0.0});
+      double m = 0.0;
+      for (int k = 0; k < 3; ++k) m += axi.field(k).alpha[c] * axi.field(k).rho[c] * g.cellVolume(i, j, 0);
+      radial += m * 300.0 * g.centre(0, i);
+    }
+  // what the quarter holds outside the source's reach stays: its columns beyond r = 0.3 m and its
+  // layers outside z = +-0.15 m
+  const auto& q = quarter.grid();
+  auto outside = [&](const hydro::Solver& s) {
+    std::vector<double> m(3, 0.0);
+    for (int I = 0; I < q.cells(0); ++I)
+      for (int J = 0; J < q.cells(1); ++J)
+        for (int L = 0; L < q.cells(2); ++L) {
+          const bool reached = std::hypot(q.axis(0).faces()[static_cast<std::size_t>(I)], q.axis(1).faces()[static_cast<std::size_t>(J)]) < 0.3 &&
+                               std::abs(q.centre(2, L)) < 0.15;
+          if (reached) continue;
+          for (int k = 0; k < 3; ++k) m[static_cast<std::size_t>(k)] += s.field(k).alpha[q.index(I, J, L)] * s.field(k).rho[q.index(I, J, L)] * q.cellVolume(I, J, L);
+        }
+    return m;
+  };
+  const auto before = outside(quarter);
+  const auto a = axi.totals(), q0 = quarter.totals();
+  // the quarter's own contents in the part of each reached cell the rings do not cover
+  double own_mass = 0.0, own_energy = 0.0;
+  for (int I = 0; I < q.cells(0); ++I)
+    for (int J = 0; J < q.cells(1); ++J) {
+      {
+        const double x0 = q.axis(0).faces()[static_cast<std::size_t>(I)], y0 = q.axis(1).faces()[static_cast<std::size_t>(J)];
+        const double x1 = x0 + 0.05, y1 = y0 + 0.05;
+        const double f = hydro::ringOverlap(x0, x1, y0, y1, 0.0, 0.3).area / 0.0025;
+        if (f <= 0.0 || f >= 1.0 - 1e-12) continue;
+        for (int L = 2; L <= 7; ++L) {   // the layers z = -0.15 to 0.15 m
+          const std::size_t c = q.index(I, J, L);
+          for (int k = 0; k < 3; ++k) {
+            const double m = (1.0 - f) * quarter.field(k).alpha[c] * quarter.field(k).rho[c] * q.cellVolume(I, J, L);
+            own_mass += m;
+            own_energy += m * quarter.field(k).e[c];
+          }
+        }
+      }
+  }
+  double reached_before = 0.0;
+  for (int k = 0; k < 3; ++k) reached_before += q0.mass[static_cast<std::size_t>(k)] - before[static_cast<std::size_t>(k)];
+  const auto rep = hydro::mapAxisymmetricToQuarter(axi, quarter);
+  const auto b = quarter.totals();
+  const auto after = outside(quarter);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(after[static_cast<std::size_t>(k)], before[static_cast<std::size_t>(k)]);
+  // each material's mass: the source's per radian times a quarter turn, plus the quarter's own part kept
+  double mapped = 0.0, src = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    mapped += b.mass[static_cast<std::size_t>(k)] - before[static_cast<std::size_t>(k)];
+    src += 0.5 * M_PI * a.mass[static_cast<std::size_t>(k)];
+  }
+  EXPECT_NEAR(mapped, src + own_mass, 1e-12 * mapped);
+  EXPECT_GT(own_mass, 0.0);   // the partly covered columns did keep some of their own
+  EXPECT_LT(own_mass, reached_before);
+  // products: none outside the source, so exactly the source's
+  EXPECT_NEAR(b.mass[1], 0.5 * M_PI * a.mass[1], 1e-12 * b.mass[1]);
+  // momentum: z is m u_z summed; x and y are each sum m u_r over the quarter turn (int cos = 1)
+  EXPECT_NEAR(b.momentum[2], 0.5 * M_PI * a.momentum[1], 1e-10 * std::abs(0.5 * M_PI * a.momentum[1]) + 1e-9);
+  EXPECT_NEAR(b.momentum[0], radial, 1e-10 * radial);
+  EXPECT_NEAR(b.momentum[1], radial, 1e-10 * radial);
+  // energy: the source's total energy (per radian, a quarter turn) plus the quarter's own part kept;
+  // the kinetic energy one velocity per column cannot hold is heat
+  double e_outside_before = 0.0;
+  {
+    for (int I = 0; I < q.cells(0); ++I)
+      for (int J = 0; J < q.cells(1); ++J)
+        for (int L = 0; L < q.cells(2); ++L) {
+          const bool reached = std::hypot(q.axis(0).faces()[static_cast<std::size_t>(I)], q.axis(1).faces()[static_cast<std::size_t>(J)]) < 0.3 &&
+                               std::abs(q.centre(2, L)) < 0.15;
+          if (reached) continue;
+          const std::size_t c = q.index(I, J, L);
+          for (int k = 0; k < 3; ++k) e_outside_before += quarter.field(k).alpha[c] * quarter.field(k).rho[c] * q.cellVolume(I, J, L) * quarter.field(k).e[c];
+        }
+  }
+  EXPECT_NEAR(b.total(), 0.5 * M_PI * a.total() + own_energy + e_outside_before, 1e-11 * b.total());
+  EXPECT_GT(rep.heat_J, 0.0);
+  EXPECT_NEAR(b.kinetic_energy + rep.heat_J, 0.5 * M_PI * a.kinetic_energy, 1e-9 * a.kinetic_energy);
+  // a quarter that does not hold the source's radius is refused
+  hydro::Solver small(mesh::Grid(3, mesh::Geometry::Cartesian, {Axis::uniform(0.0, 0.2, 4), Axis::uniform(0.0, 0.2, 4), Axis::uniform(-0.25, 0.25, 10)}),
+                      mats, o);
+  EXPECT_THROW(hydro::mapAxisymmetricToQuarter(axi, small), InputError);
+  // z layers that do not nest are refused
+  hydro::Solver offset(mesh::Grid(3, mesh::Geometry::Cartesian, {Axis::uniform(0.0, 0.4, 8), Axis::uniform(0.0, 0.4, 8), Axis::uniform(-0.27, 0.23, 10)}),
+                       mats, o);
+  EXPECT_THROW(hydro::mapAxisymmetricToQuarter(axi, offset), InputError);
+}
+
 TEST(SandEnergyTerm, NoThermalPressureAsLaidFullTermAtLockup) {
   const auto m = materials::sand(materials::SandInputs::fromWetDensity(1370.0, 0.07));
   const auto& model = *m.sand_model;
