@@ -116,7 +116,8 @@ void writeSums(Sums& S, Solver& target, RezoneReport& rep) {
         for (int k = 0; k < M; ++k) {
           auto& F = target.fieldForSetup(k);
           const std::size_t q = tc * uM + static_cast<std::size_t>(k);
-          if (S.mk[q] <= 0.0) {
+          // a trace with no volume to hold it (a source fraction that underflowed: 1e-300 kg)
+          if (S.mk[q] <= 0.0 || S.vk[q] <= 0.0) {
             F.clearCell(tc);
             continue;
           }
