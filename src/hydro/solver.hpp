@@ -44,9 +44,10 @@ struct DetonationPoint {
 // Revision of the numerics: raised whenever a change alters results (2: products' adiabat;
 // 3: no adiabat, energy conserved with a ledger, mixed-cell heat by compression, the sand's energy
 // term; 4: mixed-cell work along each material's polytrope, relaxation heat capped per unit mass;
-// 5: a wall's load never below the tension limit of the flow beside it, a free target moves the mesh).
-// `ejecta validate --reuse` reruns a case saved by another revision.
-inline constexpr int kSolverRevision = 5;
+// 5: a wall's load never below the tension limit of the flow beside it, a free target moves the mesh;
+// 6: mixed cells relax at the common pressure, each material working at it; 3D runs take the
+// axisymmetric early time). `ejecta validate --reuse` reruns a case saved by another revision.
+inline constexpr int kSolverRevision = 6;
 
 struct SolverOptions {
   double cfl = 0.45;                     // - Courant number of each sweep
