@@ -298,13 +298,15 @@ void closeMixedCell(MixedCell& c, double V, double Vl, double die) {
     if (dk < 0.0) theta = std::min(theta, 0.5 * c.v[k] / -dk);
     if (dk > 0.0) theta = std::min(theta, c.v[k] / dk);
   }
-  // Every material works at the common pressure across the volume it exchanges (the interface in
-  // the cell is at one pressure, as in a Riemann-problem closure): the exchanges sum to zero, so no
-  // heat is left over to route to anyone. Each material's departure from its own isentrope is then
-  // its own share of the relaxation's dissipation, second order in its pressure mismatch. Routing
-  // the expanding material's excess (p_k - p_eq) dV to the compressed one, as revision 5 did, sent
-  // the products' late energy into the sand in proportion to the number of steps (mesh-study
-  // deck, 5 to 10 ms: products -135 kJ, sand +91 kJ at 4 mm cells; docs/solver.md).
+  // Every material works at the common pressure across the volume it exchanges (one interface
+  // pressure in the cell, the energy update of the relaxation models of Saurel et al. and of
+  // Kamm-Shashkov's two-material closure, here with the linearised p_eq): the exchanges sum to
+  // zero, so no heat is left over to route to anyone, and no material's entropy falls (its gain is
+  // about theta (1 - theta / 2) alpha V (p_k - p_eq)^2 / K_k). Revision 5 charged each material at
+  // its own starting pressure, more than an expanding one's isentrope gives, and routed the excess
+  // to the compressed ones, mostly by mass: in products-sand cells the products' late energy went
+  // into the sand, more the finer the cells (docs/solver.md, Known shortcomings). The pressures
+  // here are those before step 1's volume change (a first-order lag; the next refinement).
   double exchanged = 0.0;
   for (int k = 0; k < M; ++k) {
     if (c.alpha[k] <= kAlphaMin) continue;

@@ -117,7 +117,8 @@ void lagrangeUpdate(Pencil& P, const SweepSetup& S, PencilLedger& ledger);
 // the cell's internal energy change `die` (J). Out: each material's volume and internal energy.
 //  1. The volume change is shared by compressibility alpha_k / (rho_k c_k^2) (equal pressure
 //     increments), no material losing more than 95% of its volume in a step (the rest goes to the
-//     others); each material does p_k dV_k at its own pressure for the change it makes.
+//     others); each material's work for the change it makes follows its local polytrope (a
+//     stiff material compressed: the trapezoid, at its mean pressure).
 //  2. Materials at unequal pressures exchange volume towards the linearised common pressure
 //     p_eq, each working at p_eq (the exchanges sum to zero: no heat is routed between them).
 //  3. The rest of `die` (the Riemann solver's dissipation, shear work) goes to the materials in
