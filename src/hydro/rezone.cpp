@@ -237,7 +237,10 @@ RezoneReport mapAxisymmetricToQuarter(const Solver& source, Solver& target) {
   std::vector<int> zmap3(static_cast<std::size_t>(sg.cells(1)), -1);
   for (int j = 0; j < sg.cells(1); ++j) {
     const double z = sg.centre(1, j);
-    if (z > zf.front() && z < zf.back()) zmap3[static_cast<std::size_t>(j)] = static_cast<int>(std::upper_bound(zf.begin(), zf.end(), z) - zf.begin()) - 1;
+    if (!(z > zf.front() && z < zf.back()))   // what lies beyond the quarter's height would be lost
+      throw InputError("rezone", fmt::format("the axisymmetric source's layer at z = {:.4g} m lies outside the quarter's height ({:.4g} to {:.4g} m)", z,
+                                             zf.front(), zf.back()));
+    zmap3[static_cast<std::size_t>(j)] = static_cast<int>(std::upper_bound(zf.begin(), zf.end(), z) - zf.begin()) - 1;
   }
   const int nr = sg.cells(0), nx = tg.cells(0), ny = tg.cells(1);
   // each ring's overlap with each column (x, y) of the quarter, scaled so that the ring's area and
@@ -278,7 +281,7 @@ RezoneReport mapAxisymmetricToQuarter(const Solver& source, Solver& target) {
     p.o.sin *= moment / s.sin;
   }
   const std::size_t uM = static_cast<std::size_t>(source.materialCount());
-  Sums S(tg.totalCells(), uM, anyStrength(source));
+  Sums S(tg.totalCells(), uM, anyStrength(source));   // per target cell
   RezoneReport rep;
   std::vector<double> covered(static_cast<std::size_t>(nx * ny), 0.0);
   std::vector<char> layer_hit(static_cast<std::size_t>(tg.cells(2)), 0);
@@ -310,19 +313,19 @@ RezoneReport mapAxisymmetricToQuarter(const Solver& source, Solver& target) {
         S.hk[q] += m * F.h0[sc];
         S.kek[q] += 0.5 * m * u2;
         // momentum and stress turned from (r, z, theta) into (x, y, z) over the piece
-        const double C = p.o.cos * dz, Sn = p.o.sin * dz, C2 = p.o.cos2 * dz, S2 = p.o.sin2 * dz;
-        S.mom[tc][0] += rho * (ur * C - ut * Sn);
-        S.mom[tc][1] += rho * (ur * Sn + ut * C);
+        const double mc = p.o.cos * dz, ms = p.o.sin * dz, mc2 = p.o.cos2 * dz, ms2 = p.o.sin2 * dz;   // the piece's moments
+        S.mom[tc][0] += rho * (ur * mc - ut * ms);
+        S.mom[tc][1] += rho * (ur * ms + ut * mc);
         S.mom[tc][2] += m * uz;
         if (!F.s[0].empty() && !S.sk.empty()) {
           const double srr = F.s[0][sc], szz = F.s[1][sc], stt = F.s[2][sc], srz = F.s[3][sc], szt = F.s[4][sc], srt = F.s[5][sc];
-          auto& o = S.sk[q];
-          o[0] += rho * (0.5 * srr * (a + C2) + 0.5 * stt * (a - C2) - srt * S2);
-          o[1] += rho * (0.5 * srr * (a - C2) + 0.5 * stt * (a + C2) + srt * S2);
-          o[2] += m * szz;
-          o[3] += rho * (0.5 * (srr - stt) * S2 + srt * C2);
-          o[4] += rho * (srz * Sn + szt * C);   // y-z
-          o[5] += rho * (srz * C - szt * Sn);   // x-z
+          auto& st = S.sk[q];
+          st[0] += rho * (0.5 * srr * (a + mc2) + 0.5 * stt * (a - mc2) - srt * ms2);
+          st[1] += rho * (0.5 * srr * (a - mc2) + 0.5 * stt * (a + mc2) + srt * ms2);
+          st[2] += m * szz;
+          st[3] += rho * (0.5 * (srr - stt) * ms2 + srt * mc2);
+          st[4] += rho * (srz * ms + szt * mc);   // y-z
+          st[5] += rho * (srz * mc - szt * ms);   // x-z
         }
       }
     }

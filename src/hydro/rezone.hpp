@@ -21,7 +21,7 @@ namespace ejecta::hydro {
 
 struct RezoneReport {
   std::size_t target_cells = 0;   // target cells that received source cells
-  std::size_t source_cells = 0;
+  std::size_t source_cells = 0;   // source cells mapped (into a 3D quarter: ring-column pieces times layers)
   double heat_J = 0.0;            // kinetic energy returned as heat (per radian in 2D axisymmetric)
 };
 
@@ -38,11 +38,14 @@ struct RingOverlap {
 RingOverlap ringOverlap(double x0, double x1, double y0, double y1, double r0, double r1);
 
 // Maps an axisymmetric (r, z) state onto a 3D quarter (x, y >= 0, z up) that starts on the axis:
-// along z the meshes nest; across, each quarter column takes its overlap with each ring (scaled so
-// each ring's area and first moments sum exactly). Per material the mass and energy map exactly
-// (the source's quantities per radian times pi / 2, a quarter turn), the momentum turned into x
-// and y exactly, the stress turned by the overlap's moments. A column the rings cover in part
-// keeps its own contents in the rest. Throws InputError if a body is in the way.
+// along z the meshes nest (the source must lie within the quarter's height); across, each quarter
+// column takes its overlap with each ring (scaled so each ring's area and first moments sum
+// exactly). Each material's mass, the total energy and the momentum (turned into x and y) map
+// exactly: the source's quantities per radian times pi / 2, a quarter turn; the kinetic energy one
+// velocity per cell cannot hold is heat, shared among the materials as they lost it. The stress is
+// turned by the overlap's moments. A column the rings cover in part keeps its own contents in the
+// rest. Throws InputError if a body is in the way. (A swirl, u_theta, maps too, though the
+// quarter's symmetry planes cannot hold one; the 2D solver keeps it zero.)
 RezoneReport mapAxisymmetricToQuarter(const Solver& source, Solver& target);
 
 }  // namespace ejecta::hydro

@@ -542,9 +542,9 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
                   {"boundary_flux_J", -fine.symmetry * fine_tot.boundary_in},
                   {"warnings", early_warnings},
                   {"wall_seconds", wall_early}};
-    say(fmt::format("early time: mapped {} fine cells onto {} run cells at t = {:.3g} us ({:.1f} s); the kinetic energy one velocity per run cell "
+    say(fmt::format("early time: mapped {} fine {} onto {} run cells at t = {:.3g} us ({:.1f} s); the kinetic energy one velocity per run cell "
                     "cannot hold, {:.3g} J, is heat",
-                    rz.source_cells, rz.target_cells, 1e6 * fs_.time(), wall_early, cs.symmetry * rz.heat_J));
+                    rz.source_cells, onto_3d ? "ring-column pieces" : "cells", rz.target_cells, 1e6 * fs_.time(), wall_early, cs.symmetry * rz.heat_J));
     st.next_history = s.time();
     record();
   }

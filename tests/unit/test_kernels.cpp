@@ -496,6 +496,75 @@ TEST(Rezone, AxisymmetricIntoAQuarterKeepsMassEnergyAndTurnsTheMomentum) {
   EXPECT_THROW(hydro::mapAxisymmetricToQuarter(axi, offset), InputError);
 }
 
+TEST(Rezone, AxisymmetricIntoAQuarterTurnsVelocityAndStressByEachColumnsMoments) {
+  // One material of uniform density with u_r = c r, a swirl u_theta = w r, u_z = 0 and a uniform
+  // deviatoric stress (s_rr, s_zz, s_tt, s_rz) over rings much finer than the quarter's columns.
+  // A column inside the rings must get the velocity's mean over its area, (c x - w y, c y + w x),
+  // and the stress turned by its area's cos 2t and sin 2t: s_xx = s_rr <cos^2> + s_tt <sin^2>, ...
+  // (means by a fine midpoint sum over the column). Swapping cos and sin, a sign, or cos 2t fails it.
+  hydro::SolverOptions o;
+  for (auto& b : o.boundary) b = {BoundaryKind::Reflect, BoundaryKind::Transmit};
+  const std::vector<materials::Material> mats{materials::sand(materials::SandInputs::fromWetDensity(1500.0, 0.1), "sand")};
+  hydro::Solver axi(mesh::Grid(2, mesh::Geometry::Axisymmetric, {Axis::uniform(0.0, 0.3, 300), Axis::uniform(0.0, 0.1, 2), Axis{}}), mats, o);
+  hydro::Solver quarter(mesh::Grid(3, mesh::Geometry::Cartesian, {Axis::uniform(0.0, 0.3, 6), Axis::uniform(0.0, 0.3, 6), Axis::uniform(0.0, 0.1, 1)}), mats, o);
+  const double rho = mats[0].referenceDensity(), c = 50.0, w = 20.0;
+  for (auto* s : {&axi, &quarter}) s->paint(0, [](const Vec3&) { return true; }, rho, 100.0);
+  const double srr = 3e5, szz = -1e5, stt = -2e5, srz = 4e4;
+  const auto& g = axi.grid();
+  auto& F = axi.fieldForSetup(0);
+  ASSERT_FALSE(F.s[0].empty());
+  for (int i = 0; i < g.cells(0); ++i)
+    for (int j = 0; j < g.cells(1); ++j) {
+      const std::size_t cell = g.index(i, j, 0);
+      axi.setVelocity(cell, {c * g.centre(0, i), 0.0, w * g.centre(0, i)});
+      F.s[0][cell] = srr;
+      F.s[1][cell] = szz;
+      F.s[2][cell] = stt;
+      F.s[3][cell] = srz;
+    }
+  hydro::mapAxisymmetricToQuarter(axi, quarter);
+  const auto& q = quarter.grid();
+  const auto& Q = quarter.field(0);
+  for (const auto& [I, J] : {std::pair{0, 0}, std::pair{3, 1}, std::pair{1, 3}, std::pair{2, 2}}) {
+    const std::size_t cell = q.index(I, J, 0);
+    double ux = 0.0, uy = 0.0, c2 = 0.0, s2 = 0.0;
+    const int n = 400;
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b) {
+        const double x = 0.05 * (I + (a + 0.5) / n), y = 0.05 * (J + (b + 0.5) / n), r = std::hypot(x, y);
+        ux += (c * x - w * y) / (n * n);
+        uy += (c * y + w * x) / (n * n);
+        c2 += (x * x - y * y) / (r * r) / (n * n);
+        s2 += 2.0 * x * y / (r * r) / (n * n);
+      }
+    EXPECT_NEAR(quarter.velocity(0)[cell], ux, 1e-3 * c * 0.05) << I << "," << J;
+    EXPECT_NEAR(quarter.velocity(1)[cell], uy, 1e-3 * c * 0.05) << I << "," << J;
+    EXPECT_NEAR(quarter.velocity(2)[cell], 0.0, 1e-9);
+    const double tol = 2e-3 * srr;
+    EXPECT_NEAR(Q.s[0][cell], 0.5 * srr * (1.0 + c2) + 0.5 * stt * (1.0 - c2), tol) << I << "," << J;
+    EXPECT_NEAR(Q.s[1][cell], 0.5 * srr * (1.0 - c2) + 0.5 * stt * (1.0 + c2), tol) << I << "," << J;
+    EXPECT_NEAR(Q.s[2][cell], szz, tol);
+    EXPECT_NEAR(Q.s[3][cell], 0.5 * (srr - stt) * s2, tol) << I << "," << J;
+    EXPECT_GT(Q.s[5][cell], 0.0);   // x-z: s_rz cos t, positive over the quadrant
+    EXPECT_GT(Q.s[4][cell], 0.0);   // y-z: s_rz sin t
+  }
+  // an off-diagonal rectangle's cos 2t and sin 2t against the midpoint sum
+  const auto ov = hydro::ringOverlap(0.2, 0.3, 0.05, 0.1, 0.0, 1.0);
+  double c2 = 0.0, s2 = 0.0;
+  const int n = 1000;
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) {
+      const double x = 0.2 + 0.1 * (a + 0.5) / n, y = 0.05 + 0.05 * (b + 0.5) / n, r2 = x * x + y * y;
+      c2 += (x * x - y * y) / r2 * 0.005 / (n * n);
+      s2 += 2.0 * x * y / r2 * 0.005 / (n * n);
+    }
+  EXPECT_NEAR(ov.cos2, c2, 1e-9);
+  EXPECT_NEAR(ov.sin2, s2, 1e-9);
+  // a source taller than the quarter would lose its top: refused
+  hydro::Solver low(mesh::Grid(3, mesh::Geometry::Cartesian, {Axis::uniform(0.0, 0.3, 6), Axis::uniform(0.0, 0.3, 6), Axis::uniform(0.0, 0.05, 1)}), mats, o);
+  EXPECT_THROW(hydro::mapAxisymmetricToQuarter(axi, low), InputError);
+}
+
 TEST(SandEnergyTerm, NoThermalPressureAsLaidFullTermAtLockup) {
   const auto m = materials::sand(materials::SandInputs::fromWetDensity(1370.0, 0.07));
   const auto& model = *m.sand_model;
