@@ -298,24 +298,31 @@ void closeMixedCell(MixedCell& c, double V, double Vl, double die) {
     if (dk < 0.0) theta = std::min(theta, 0.5 * c.v[k] / -dk);
     if (dk > 0.0) theta = std::min(theta, c.v[k] / dk);
   }
-  // Every material works at the common pressure across the volume it exchanges (one interface
-  // pressure in the cell, the energy update of the relaxation models of Saurel et al. and of
-  // Kamm-Shashkov's two-material closure, here with the linearised p_eq): the exchanges sum to
-  // zero, so no heat is left over to route to anyone, and no material's entropy falls (its gain is
-  // about theta (1 - theta / 2) alpha V (p_k - p_eq)^2 / K_k). Revision 5 charged each material at
-  // its own starting pressure, more than an expanding one's isentrope gives, and routed the excess
-  // to the compressed ones, mostly by mass: in products-sand cells the products' late energy went
-  // into the sand, more the finer the cells (docs/solver.md, Known shortcomings). The pressures
-  // here are those before step 1's volume change (a first-order lag; the next refinement).
-  double exchanged = 0.0;
+  double relax_heat = 0.0, squeezed = 0.0, dk_all[kMaxMaterials] = {};
   for (int k = 0; k < M; ++k) {
     if (c.alpha[k] <= kAlphaMin) continue;
     const double dk = theta * c.alpha[k] * Vl * (c.p[k] - p_eq) / std::max(c.K[k], 1.0);
+    dk_all[k] = dk;
     c.v[k] += dk;
-    c.ie[k] -= p_eq * dk;
-    exchanged += p_eq * dk;
+    c.ie[k] -= c.p[k] * dk;   // each material works at its own pressure...
+    relax_heat += c.p[k] * dk;
+    if (dk < 0.0) squeezed -= dk;
   }
-  work -= exchanged;   // zero up to round-off; booked so the cell's total stays exact
+  // ...and what the expanding ones gave beyond that heats the ones they compressed, by their volume
+  // lost but never more than twice the cell's mean per unit mass (shareHeat): a film of air with
+  // almost no mass left would otherwise be heated without bound (1e10 J/kg), and its sound speed
+  // would set the time step
+  if (squeezed > 0.0) {
+    double mass_present[kMaxMaterials] = {}, by_volume[kMaxMaterials] = {}, add[kMaxMaterials] = {};
+    for (int k = 0; k < M; ++k) {
+      if (c.alpha[k] <= kAlphaMin) continue;
+      mass_present[k] = c.m[k];
+      if (dk_all[k] < 0.0) by_volume[k] = relax_heat * (-dk_all[k] / squeezed);
+    }
+    shareHeat(M, mass_present, by_volume, relax_heat, c.ie, add);
+    for (int k = 0; k < M; ++k) c.ie[k] += add[k];
+  }
+  if (squeezed <= 0.0) work -= relax_heat;   // nothing exchanged: relax_heat is 0 up to round-off; keep it booked
   // keep the material volumes summing to the cell's
   double vs = 0.0;
   for (int k = 0; k < M; ++k) vs += c.v[k];

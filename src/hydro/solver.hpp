@@ -45,8 +45,8 @@ struct DetonationPoint {
 // 3: no adiabat, energy conserved with a ledger, mixed-cell heat by compression, the sand's energy
 // term; 4: mixed-cell work along each material's polytrope, relaxation heat capped per unit mass;
 // 5: a wall's load never below the tension limit of the flow beside it, a free target moves the mesh;
-// 6: mixed cells relax at the common pressure, each material working at it; 3D runs take the
-// axisymmetric early time). `ejecta validate --reuse` reruns a case saved by another revision.
+// 6: 3D runs take the axisymmetric early time; 2D results are revision 5's). `ejecta validate
+// --reuse` reruns a case saved by another revision.
 inline constexpr int kSolverRevision = 6;
 
 struct SolverOptions {
