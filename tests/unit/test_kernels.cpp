@@ -374,15 +374,19 @@ TEST(Rezone, AxisymmetricIntoAQuarterKeepsMassEnergyAndTurnsTheMomentum) {
   // what the quarter holds outside the source's reach stays: its columns beyond r = 0.3 m and its
   // layers outside z = +-0.15 m
   const auto& q = quarter.grid();
-  auto outside = [&](const hydro::Solver& s) {
-    std::vector<double> m(3, 0.0);
+  auto outside = [&](const hydro::Solver& s) {   // each material's mass, then the internal energy
+    std::vector<double> m(4, 0.0);
     for (int I = 0; I < q.cells(0); ++I)
       for (int J = 0; J < q.cells(1); ++J)
         for (int L = 0; L < q.cells(2); ++L) {
           const bool reached = std::hypot(q.axis(0).faces()[static_cast<std::size_t>(I)], q.axis(1).faces()[static_cast<std::size_t>(J)]) < 0.3 &&
                                std::abs(q.centre(2, L)) < 0.15;
           if (reached) continue;
-          for (int k = 0; k < 3; ++k) m[static_cast<std::size_t>(k)] += s.field(k).alpha[q.index(I, J, L)] * s.field(k).rho[q.index(I, J, L)] * q.cellVolume(I, J, L);
+          for (int k = 0; k < 3; ++k) {
+            const double mk = s.field(k).alpha[q.index(I, J, L)] * s.field(k).rho[q.index(I, J, L)] * q.cellVolume(I, J, L);
+            m[static_cast<std::size_t>(k)] += mk;
+            m[3] += mk * s.field(k).e[q.index(I, J, L)];
+          }
         }
     return m;
   };
@@ -430,18 +434,7 @@ TEST(Rezone, AxisymmetricIntoAQuarterKeepsMassEnergyAndTurnsTheMomentum) {
   EXPECT_NEAR(b.momentum[1], radial, 1e-10 * radial);
   // energy: the source's total energy (per radian, a quarter turn) plus the quarter's own part kept;
   // the kinetic energy one velocity per column cannot hold is heat
-  double e_outside_before = 0.0;
-  {
-    for (int I = 0; I < q.cells(0); ++I)
-      for (int J = 0; J < q.cells(1); ++J)
-        for (int L = 0; L < q.cells(2); ++L) {
-          const bool reached = std::hypot(q.axis(0).faces()[static_cast<std::size_t>(I)], q.axis(1).faces()[static_cast<std::size_t>(J)]) < 0.3 &&
-                               std::abs(q.centre(2, L)) < 0.15;
-          if (reached) continue;
-          const std::size_t c = q.index(I, J, L);
-          for (int k = 0; k < 3; ++k) e_outside_before += quarter.field(k).alpha[c] * quarter.field(k).rho[c] * q.cellVolume(I, J, L) * quarter.field(k).e[c];
-        }
-  }
+  const double e_outside_before = before[3];
   EXPECT_NEAR(b.total(), 0.5 * M_PI * a.total() + own_energy + e_outside_before, 1e-11 * b.total());
   EXPECT_GT(rep.heat_J, 0.0);
   EXPECT_NEAR(b.kinetic_energy + rep.heat_J, 0.5 * M_PI * a.kinetic_energy, 1e-9 * a.kinetic_energy);
