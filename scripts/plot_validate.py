@@ -139,10 +139,26 @@ def dres(p):
     return fig
 
 
+def vplates(p):
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.2))
+    histories(a1, p["histories"])
+    x = range(len(p["labels"]))
+    a2.bar(x, p["soil"], color="tab:brown", label="soil")
+    a2.bar(x, p["products"], bottom=p["soil"], color="tab:red", label="products")
+    a2.bar(x, p["air"], color="tab:blue", label="air (net of ambient)")
+    a2.axhline(0.0, color="k", lw=0.6)
+    a2.set_xticks(list(x))
+    a2.set_xticklabels(p["labels"], rotation=15, fontsize=8)
+    a2.set_ylabel("impulse (N s)")
+    a2.grid(alpha=0.3, axis="y")
+    a2.legend(fontsize=8)
+    return fig
+
+
 def main(data_path, out_path):
     with open(data_path) as f:
         d = json.load(f)
-    fig = {"mesh": mesh, "moisture": moisture, "field": field, "share": share, "sensitivity": sensitivity, "dres": dres}[d["figure"]](d["plot"])
+    fig = {"mesh": mesh, "moisture": moisture, "field": field, "share": share, "sensitivity": sensitivity, "dres": dres, "vplates": vplates}[d["figure"]](d["plot"])
     fig.suptitle(d["title"], fontsize=11)
     fig.tight_layout()
     fig.savefig(out_path, dpi=110, format="png")

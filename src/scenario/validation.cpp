@@ -615,8 +615,14 @@ json validationReport(const ValidationPlan& plan, const std::map<std::string, js
       std::array<double, 4> I{};
       for (std::size_t i = 0; i < I.size(); ++i) I.at(i) = impulse(cases.at(i).id);
       const double flat3 = I[1];
+      json plot{{"labels", json::array()}, {"air", json::array()}, {"products", json::array()}, {"soil", json::array()}, {"histories", json::array()}};
       for (std::size_t i = 0; i < cases.size(); ++i) {
         const auto& o = get(cases[i].id);
+        plot["labels"].push_back(cases[i].label);
+        plot["air"].push_back(o.at("impulse_air_Ns"));
+        plot["products"].push_back(o.at("impulse_products_Ns"));
+        plot["soil"].push_back(o.at("impulse_soil_Ns"));
+        plot["histories"].push_back({{"label", cases[i].label}, {"t_s", o.at("history").at("t_s")}, {"impulse_Ns", o.at("history").at("impulse_Ns")}});
         t["rows"].push_back({cases[i].label, fixed(I[i], 0), signedPct(100.0 * (I[i] - flat3) / flat3), fixed(o.at("impulse_air_Ns").get<double>(), 0),
                              fixed(o.at("impulse_products_Ns").get<double>(), 0), fixed(o.at("impulse_soil_Ns").get<double>(), 0),
                              fixed(o.at("peak_force_N").get<double>() / 1e6, 1), std::to_string(o.at("cells").get<long long>()),
@@ -641,6 +647,9 @@ json validationReport(const ValidationPlan& plan, const std::map<std::string, js
                        d23, 100.0 * (I[2] - flat3) / flat3, 100.0 * (I[3] - flat3) / flat3, wall120,
                        full ? "the issue's aim: under 30 minutes on 2 cores" : "quick level: 60 mm cells, the ordering only"),
            "The V's load by material is split by the cell beside each wing face, as for the flat plate."});
+      sec["figure"] = "vplates.png";
+      sec["caption"] = "Impulse on each plate vs time (left) and its split by the material in the cell beside the plate (right).";
+      sec["plot"] = plot;
     } else if (study == "dres") {
       sec["title"] = "DRES soil bubble (100 g C-4, 3 cm and 8 cm burial, no target)";
       auto t = table({"time (ms)", "3 cm: top of soil (mm)", "3 cm: on axis (mm)", "8 cm: top of soil (mm)", "8 cm: on axis (mm)"});
