@@ -512,15 +512,20 @@ void productsIsentrope(const std::vector<int>& levels, Report& rep) {
 }
 
 // A 40 mm slab of Comp B detonated at a rigid wall, driving EMI sand at 22% moisture (1D planar):
-// each material's total energy (internal + kinetic) and the sand's momentum at 20, 50 and 100 us
-// against the same code at 8x finer cells than the finest level. The error is the largest relative
-// difference over the three times; the order fitted over the levels must be >= 0.9 (the scheme's
-// first order at shocks and contacts, with nothing that converges by cancellation).
+// each material's total energy (internal + kinetic) and the sand's momentum as histories, sampled
+// every 2 us to 100 us, against the same code at 8x finer cells than the finest level. The error is
+// the history's L1 norm relative to the reference's, sum |q - q_ref| / sum |q_ref| over the 50
+// times: an error at a few chosen times passes through zero when two error components of opposite
+// sign trade places (the sand's momentum: the slower early drive, negative, and the products'
+// excess energy later, positive, cross near 100 us), and its pointwise order then says nothing.
+// The order fitted over the levels must be >= 0.9 (the scheme's first order at shocks and contacts).
 void chargeInWetSand(const std::vector<int>& levels, Report& rep) {
   const Material ex = materials::explosive("CompB");
   const Material sand = materials::sand(materials::SandInputs::fromWetDensity(1370.0 / 1.07 * 1.22, 0.22), "sand");
-  const double slab = 0.04, L = 0.6;
-  const std::vector<double> times{20e-6, 50e-6, 100e-6};
+  // the sand's shock is at 0.28 m at 100 us: the far boundary at 0.4 m is never reached
+  const double slab = 0.04, L = 0.4;
+  constexpr int kSamples = 50;
+  constexpr double kSampleEvery_s = 2e-6;
   struct Sample { double products, sand, momentum; };
   auto simulate = [&](int n, std::size_t* cells, long long* steps, double* books) {
     const int nc = static_cast<int>(std::lround(L / slab * n));
@@ -533,17 +538,16 @@ void chargeInWetSand(const std::vector<int>& levels, Report& rep) {
     s.paint(0, [slab](const Vec3& x) { return x[0] < slab; }, ex.jwl.rho0, ex.jwl.e0 / ex.jwl.rho0, {}, 8);
     const auto before = s.totals();
     std::vector<Sample> out;
-    for (const double t : times) {
-      s.advanceTo(t);
+    for (int q = 1; q <= kSamples; ++q) {
+      s.advanceTo(q * kSampleEvery_s);
       const auto tt = s.totals();
-      out.push_back({tt.internal_by_material[0] + tt.kinetic_by_material[0], tt.internal_by_material[1] + tt.kinetic_by_material[1], 0.0});
       const Grid& g = s.grid();
       double mom = 0.0;
       for (int i = 0; i < g.cells(0); ++i) {
         const std::size_t c = g.index(i, 0, 0);
         mom += s.field(1).alpha[c] * s.field(1).rho[c] * g.cellVolume(i, 0, 0) * s.velocity(0)[c];
       }
-      out.back().momentum = mom;
+      out.push_back({tt.internal_by_material[0] + tt.kinetic_by_material[0], tt.internal_by_material[1] + tt.kinetic_by_material[1], mom});
     }
     *cells = s.grid().interiorCells();
     *steps = s.stats().steps;
@@ -556,20 +560,22 @@ void chargeInWetSand(const std::vector<int>& levels, Report& rep) {
   const int ref_n = 8 * levels.back();
   const auto ref = simulate(ref_n, &cells, &steps, &books);
   const char* names[] = {"wet-sand-products-energy", "wet-sand-sand-energy", "wet-sand-sand-momentum"};
-  const char* metrics[] = {"max over 20/50/100 us of |E_products - E_ref| / E_ref", "max over 20/50/100 us of |E_sand - E_ref| / E_ref",
-                           "max over 20/50/100 us of |P_sand - P_ref| / P_ref"};
+  const char* metrics[] = {"sum |E_products - E_ref| / sum |E_ref|, every 2 us to 100 us", "sum |E_sand - E_ref| / sum |E_ref|, every 2 us to 100 us",
+                           "sum |P_sand - P_ref| / sum |P_ref|, every 2 us to 100 us"};
   std::vector<std::size_t> first(3, rep.rows.size());
   for (const int n : levels) {
     const auto t0 = std::chrono::steady_clock::now();
     const auto got = simulate(n, &cells, &steps, &books);
     const double secs = seconds(t0);
     for (int q = 0; q < 3; ++q) {
-      double err = 0.0;
-      for (std::size_t i = 0; i < times.size(); ++i) {
+      double diff = 0.0, norm = 0.0;
+      for (std::size_t i = 0; i < got.size(); ++i) {
         const double a = q == 0 ? got[i].products : (q == 1 ? got[i].sand : got[i].momentum);
         const double b = q == 0 ? ref[i].products : (q == 1 ? ref[i].sand : ref[i].momentum);
-        err = std::max(err, std::abs(a - b) / std::abs(b));
+        diff += std::abs(a - b);
+        norm += std::abs(b);
       }
+      const double err = diff / norm;
       rep.rows.push_back({names[q], "1D", metrics[q], n, cells, err, 0.0, books, q == 0 ? secs : 0.0,
                           "", false, steps});
     }
@@ -903,8 +909,10 @@ Report runVerification(const Options& opt) {
     productsIsentrope(q ? std::vector<int>{2, 4, 8, 20} : std::vector<int>{2, 4, 8, 20, 80}, rep);
   }
   if (wanted("wet-sand")) {
-    say("CompB slab driving 22% wet sand (1D): each material's energy against 8x finer cells");
-    chargeInWetSand(q ? std::vector<int>{8, 16, 32} : std::vector<int>{8, 16, 32, 64}, rep);
+    say("CompB slab driving 22% wet sand (1D): each material's energy and the sand's momentum against 8x finer cells");
+    // 8 cells per slab is short of the asymptotic range (errors of 12-16%), so both levels
+    // starts at 16
+    chargeInWetSand(q ? std::vector<int>{16, 32, 64} : std::vector<int>{16, 32, 64, 128}, rep);
   }
   if (wanted("tnt-free-air")) {
     say("1 kg TNT in free air (1D spherical, the run's settings and early time)");
