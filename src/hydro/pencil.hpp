@@ -119,9 +119,8 @@ void lagrangeUpdate(Pencil& P, const SweepSetup& S, PencilLedger& ledger);
 //     increments), no material losing more than 95% of its volume in a step (the rest goes to the
 //     others); each material's work for the change it makes follows its local polytrope (a
 //     stiff material compressed: the trapezoid, at its mean pressure).
-//  2. Materials at unequal pressures exchange volume towards the linearised common pressure;
-//     each works at its own pressure, and what the expanding ones give beyond that goes as heat
-//     to the ones compressed by it (the compressed material is worked at the pushing pressure).
+//  2. Materials at unequal pressures (after step 1's change) exchange volume towards their
+//     linearised common pressure p_eq, every one working at p_eq: no heat is routed between them.
 //  3. The rest of `die` (the Riemann solver's dissipation, shear work) goes to the materials in
 //     proportion to their compression in this step (by |p dV| where none was compressed), at most
 //     twice the cell's mean per unit mass each, the remainder by mass; a loss is taken in

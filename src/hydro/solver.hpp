@@ -45,9 +45,10 @@ struct DetonationPoint {
 // 3: no adiabat, energy conserved with a ledger, mixed-cell heat by compression, the sand's energy
 // term; 4: mixed-cell work along each material's polytrope, relaxation heat capped per unit mass;
 // 5: a wall's load never below the tension limit of the flow beside it, a free target moves the mesh;
-// 6: 3D runs take the axisymmetric early time; 2D results are revision 5's). `ejecta validate
-// --reuse` reruns a case saved by another revision.
-inline constexpr int kSolverRevision = 6;
+// 6: 3D runs take the axisymmetric early time; 2D results are revision 5's; 7: mixed-cell
+// relaxation at the common pressure of the pressures after the volume change, nothing routed).
+// `ejecta validate --reuse` reruns a case saved by another revision.
+inline constexpr int kSolverRevision = 7;
 
 struct SolverOptions {
   double cfl = 0.45;                     // - Courant number of each sweep
