@@ -81,18 +81,23 @@ def field(p):
     return fig
 
 
-def share(p):
-    fig, ax = plt.subplots(figsize=(11, 4.6))
+def split_bars(ax, p, **ticks):
+    """Each case's impulse by material: soil, products stacked on it, air (net of ambient) apart."""
     x = range(len(p["labels"]))
     ax.bar(x, p["soil"], color="tab:brown", label="soil")
     ax.bar(x, p["products"], bottom=p["soil"], color="tab:red", label="products")
     ax.bar(x, p["air"], color="tab:blue", label="air (net of ambient)")
     ax.axhline(0.0, color="k", lw=0.6)
     ax.set_xticks(list(x))
-    ax.set_xticklabels(p["labels"], rotation=30, ha="right", fontsize=8)
+    ax.set_xticklabels(p["labels"], fontsize=8, **ticks)
     ax.set_ylabel("impulse (N s)")
     ax.grid(alpha=0.3, axis="y")
     ax.legend(fontsize=8)
+
+
+def share(p):
+    fig, ax = plt.subplots(figsize=(11, 4.6))
+    split_bars(ax, p, rotation=30, ha="right")
     fig.tight_layout()
     return fig
 
@@ -142,16 +147,7 @@ def dres(p):
 def vplates(p):
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.2))
     histories(a1, p["histories"])
-    x = range(len(p["labels"]))
-    a2.bar(x, p["soil"], color="tab:brown", label="soil")
-    a2.bar(x, p["products"], bottom=p["soil"], color="tab:red", label="products")
-    a2.bar(x, p["air"], color="tab:blue", label="air (net of ambient)")
-    a2.axhline(0.0, color="k", lw=0.6)
-    a2.set_xticks(list(x))
-    a2.set_xticklabels(p["labels"], rotation=15, fontsize=8)
-    a2.set_ylabel("impulse (N s)")
-    a2.grid(alpha=0.3, axis="y")
-    a2.legend(fontsize=8)
+    split_bars(a2, p, rotation=15)
     return fig
 
 

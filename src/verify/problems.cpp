@@ -911,7 +911,7 @@ Report runVerification(const Options& opt) {
   if (wanted("wet-sand")) {
     say("CompB slab driving 22% wet sand (1D): each material's energy and the sand's momentum against 8x finer cells");
     // 8 cells per slab is short of the asymptotic range (errors of 12-16%), so both levels
-    // starts at 16
+    // start at 16
     chargeInWetSand(q ? std::vector<int>{16, 32, 64} : std::vector<int>{16, 32, 64, 128}, rep);
   }
   if (wanted("tnt-free-air")) {
