@@ -25,6 +25,7 @@ void Pencil::resize(int cells, int materials) {
   n = cells;
   N = cells + 2 * kGhost;
   M = materials;
+  for (int k = 0; k < kMaxMaterials; ++k) mat[k] = k;
   const auto sN = static_cast<std::size_t>(N), sF = sN + 1, sMN = sN * static_cast<std::size_t>(M),
              sMF = sF * static_cast<std::size_t>(M);
   for (auto* v : {&vol, &rho, &P, &K, &Z, &hoop, &pmin, &vlag, &mass, &ke, &su, &sp}) v->assign(sN, 0.0);
@@ -116,19 +117,31 @@ static void bookLoadByMaterial(const Pencil& P, const SweepSetup& S, int fluid, 
     nearWallShares(P, S, fluid, -step, kNearWallDepth_m[static_cast<std::size_t>(l)], share);
     for (int k = 0; k < M; ++k) near[l][k] = imp * share[k];
   }
+  // booked by the run's material index (the pencil may carry only some of the run's materials)
   ledger.impulse_total[comp] += total;
   for (int k = 0; k < M; ++k) {
-    ledger.impulse_on_body[k][comp] += by_mat[k];
-    for (int l = 0; l < kNearWallDepths; ++l) ledger.impulse_near_body[l][k][comp] += near[l][k];
+    const int q = P.mat[k];
+    ledger.impulse_on_body[q][comp] += by_mat[k];
+    for (int l = 0; l < kNearWallDepths; ++l) ledger.impulse_near_body[l][q][comp] += near[l][k];
   }
-  if (ledger.events) {
+  if (ledger.events) {   // [key, component, total, by material (the run's M), near the wall (3 x the run's M)]
+    const int Mr = S.materials > 0 ? S.materials : M;
+    double row[kMaxMaterials], near_row[kNearWallDepths][kMaxMaterials];
+    for (int q = 0; q < Mr; ++q) {
+      row[q] = 0.0;
+      for (int l = 0; l < kNearWallDepths; ++l) near_row[l][q] = 0.0;
+    }
+    for (int k = 0; k < M; ++k) {
+      row[P.mat[k]] = by_mat[k];
+      for (int l = 0; l < kNearWallDepths; ++l) near_row[l][P.mat[k]] = near[l][k];
+    }
     auto& e = *ledger.events;
     e.push_back(ledger.key);
     e.push_back(static_cast<double>(comp));
     e.push_back(total);
-    for (int k = 0; k < M; ++k) e.push_back(by_mat[k]);
+    for (int q = 0; q < Mr; ++q) e.push_back(row[q]);
     for (int l = 0; l < kNearWallDepths; ++l)
-      for (int k = 0; k < M; ++k) e.push_back(near[l][k]);
+      for (int q = 0; q < Mr; ++q) e.push_back(near_row[l][q]);
   }
 }
 

@@ -25,6 +25,11 @@ inline constexpr std::array<double, kNearWallDepths> kNearWallDepth_m = {0.01, 0
 // [k * (N + 1) + f] (faces); face f lies between cells f - 1 and f.
 struct Pencil {
   int n = 0, N = 0, M = 0;   // interior cells, cells with ghosts, materials
+  // The run's index of each of the pencil's materials. A sweep carries only the materials present
+  // somewhere in the pencil, ghosts included (no other can enter it in the sweep), so that a pencil
+  // of pure air or pure sand costs what a one-material run does. The body's load is booked by the
+  // run's index.
+  int mat[kMaxMaterials] = {};
   bool radial = false;       // axisymmetric or spherical r-sweep: swept volumes are annuli or shells
   bool spherical = false;    // spherical r-sweep: volumes r^3 / 3 per steradian
   double ring_width = 0.0;   // axisymmetric r-sweep: the cell's z width
@@ -57,6 +62,7 @@ struct Pencil {
 // for every pencil: centres, widths, faces, inverse centre spacings) and the moving wall.
 struct SweepSetup {
   int d = 0, t1 = 1, t2 = 2;   // sweep axis and the two transverse axes
+  int materials = 0;           // the run's materials (a pencil carries those present in it: Pencil::mat); 0: the pencil's
   double dt = 0.0;             // s
   bool second_order = true;
   double thinc_beta = 3.5;

@@ -802,6 +802,7 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
   const int N = P.N, M = P.M;
   const std::ptrdiff_t stride = grid_.stride(d);
   const std::size_t total_cells = grid_.totalCells();
+  const bool several = materialCount() > 1;   // the interface weights exist
   const int t1 = S.t1, t2 = S.t2;
   const int s_dt1 = stressIndex(d, t1), s_dt2 = stressIndex(d, t2);
   const bool radial = grid_.curvilinear() && d == 0, spherical = grid_.spherical();
@@ -846,12 +847,13 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
     P.solid[si] = body_.empty() ? 0 : body_[c];
     double rho = 0.0, p = 0.0, kv = 0.0, snn = 0.0, stt = 0.0, s11 = 0.0, sh1 = 0.0, sh2 = 0.0, pmin = 0.0;
     for (int k = 0; k < M; ++k) {
-      const auto& F = fields_[static_cast<std::size_t>(k)];
-      const auto& mat = mats_[static_cast<std::size_t>(k)];
+      const auto km = static_cast<std::size_t>(P.mat[k]);
+      const auto& F = fields_[km];
+      const auto& mat = mats_[km];
       const std::size_t ki = P.at(k, i);
       const double al = F.alpha[c];
       P.a[ki] = al;
-      P.wl[ki] = M > 1 ? wlic_[static_cast<std::size_t>(k) * total_cells + c] : 1.0;
+      P.wl[ki] = several ? wlic_[km * total_cells + c] : 1.0;
       P.r[ki] = F.rho[c];
       P.e[ki] = F.e[c];
       P.h[ki] = F.h0[c];
@@ -888,6 +890,27 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
     P.shear[0][si] = sh1;
     P.shear[1][si] = sh2;
   }
+}
+
+// The materials the pencil carries (Pencil::mat): those present in any of its cells, ghosts
+// included, in the run's order. Leaving out a material that is absent from the whole pencil
+// changes no number (its fraction, mass, energy and fluxes are zeros that the kernels' sums skip,
+// and it is already cleared in every cell), so the result is the same to the bit.
+void Solver::selectMaterials(Pencil& P, int d, std::size_t base) const {
+  const int M = materialCount(), N = P.N;
+  const std::ptrdiff_t stride = grid_.stride(d);
+  int used = 0;
+  for (int k = 0; k < M; ++k) {
+    bool present = M == 1 || opt_.carry_all_materials;
+    const auto& al = fields_[static_cast<std::size_t>(k)].alpha;
+    for (int i = 0; i < N && !present; ++i) present = al[static_cast<std::size_t>(static_cast<std::ptrdiff_t>(base) + i * stride)] > 0.0;
+    if (present) P.mat[used++] = k;
+  }
+  if (used == 0) {   // nothing anywhere (cannot happen in a filled mesh): carry every material
+    for (int k = 0; k < M; ++k) P.mat[k] = k;
+    used = M;
+  }
+  P.M = used;
 }
 
 // The new Eulerian state of the pencil's interior cells. Returns the first cell that went bad
@@ -944,7 +967,7 @@ std::size_t Solver::scatterPencil(const Pencil& P, int d, std::size_t base) {
     const double V = P.vol[si];
     bool ok = m > 0.0 && std::isfinite(m);
     for (int k = 0; k < M; ++k) {
-      auto& F = fields_[static_cast<std::size_t>(k)];
+      auto& F = fields_[static_cast<std::size_t>(P.mat[k])];
       const std::size_t ki = P.at(k, i), kf = P.atFace(k, i);
       if (mk_new[k] <= 0.0) {
         F.clearCell(c);
@@ -981,6 +1004,7 @@ void Solver::sweep(int d, double dt) {
   S.t2 = (d + 2) % 3;
   const int n1 = grid_.cells(S.t1), n2 = grid_.cells(S.t2);
   S.dt = dt;
+  S.materials = M;
   S.second_order = opt_.second_order;
   S.thinc_beta = opt_.thinc_beta;
   S.gravity = opt_.gravity[static_cast<std::size_t>(d)];
@@ -1049,6 +1073,7 @@ void Solver::sweep(int d, double dt) {
         idx[S.t2] = b;
         const std::size_t base = grid_.index(idx[0], idx[1], idx[2]);
         auto& ledger = ledgers[static_cast<std::size_t>(a) * static_cast<std::size_t>(n2) + static_cast<std::size_t>(b)];
+        selectMaterials(P, d, base);
         gatherPencil(P, d, base, a, b, S);
         computeSlopes(P, S);
         solveFaces(P, S, ledger);

@@ -63,6 +63,9 @@ struct SolverOptions {
   double initial_dt_fraction = 0.1;      // first step = this fraction of the CFL step
   double body_friction = 0.0;            // - Coulomb coefficient between the flow and the body
   double load_reference_pressure = 0.0;  // Pa: the body's load by material is booked against it (ambient)
+  // Every pencil carries every material, not only those present in it (Pencil::mat): the same
+  // result to the bit, slower; kept so that a test can hold the two against each other.
+  bool carry_all_materials = false;
 };
 
 // One material's fields over the block (ghosts included), flat arrays.
@@ -214,6 +217,7 @@ class Solver {
   std::size_t unpackCell(std::size_t c, const std::vector<double>& in, std::size_t at);   // returns the next position   // the body's load of a sweep, summed in the whole's order
   void interfaceWeights(int d);
   void sweep(int d, double dt);
+  void selectMaterials(Pencil& P, int d, std::size_t base) const;
   void gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, const SweepSetup& S) const;
   std::size_t scatterPencil(const Pencil& P, int d, std::size_t base);
   void updateBurn(double dt);
