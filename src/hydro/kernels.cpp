@@ -125,7 +125,8 @@ static void bookLoadByMaterial(const Pencil& P, const SweepSetup& S, int fluid, 
     for (int l = 0; l < kNearWallDepths; ++l) ledger.impulse_near_body[l][q][comp] += near[l][k];
   }
   if (ledger.events) {   // [key, component, total, by material (the run's M), near the wall (3 x the run's M)]
-    const int Mr = S.materials > 0 ? S.materials : M;
+    int Mr = S.materials;   // 0 where the caller did not say: at least every material the pencil names
+    for (int k = 0; k < M; ++k) Mr = std::max(Mr, P.mat[k] + 1);
     double row[kMaxMaterials], near_row[kNearWallDepths][kMaxMaterials];
     for (int q = 0; q < Mr; ++q) {
       row[q] = 0.0;
@@ -503,9 +504,10 @@ void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     const double offset = sign * 0.5 * S.width[sD] * (1.0 - bfrac);
     // material volumes: THINC where an interface faces the sweep, the donor mean elsewhere,
     // normalised to the swept volume and never more than a donor holds
-    double raw_sum = 0.0, raw[kMaxMaterials];
+    double raw_sum = 0.0, raw[kMaxMaterials], held = 0.0;
     for (int k = 0; k < M; ++k) {
       const std::size_t kD = P.at(k, D);
+      held += P.vk[kD];
       const double al = P.vk[kD] / vD;
       const double wl = P.wl[kD];
       raw[k] = M == 1 ? bfrac : wl * thincOutflow(al, P.a[kD - 1], P.a[kD + 1], bfrac, out_high, S.thinc_beta) + (1.0 - wl) * al * bfrac;
@@ -515,7 +517,8 @@ void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     double dvk[kMaxMaterials], excess = 0.0, room = 0.0;
     for (int k = 0; k < M; ++k) {
       const std::size_t kD = P.at(k, D);
-      dvk[k] = raw_sum > 0.0 ? raw[k] / raw_sum * target : target / M;
+      // (no profile anywhere: by the donor's volumes, which do not depend on the materials carried)
+      dvk[k] = raw_sum > 0.0 ? raw[k] / raw_sum * target : (held > 0.0 ? P.vk[kD] / held * target : target / M);
       if (dvk[k] > P.vk[kD]) {
         excess += dvk[k] - P.vk[kD];
         dvk[k] = P.vk[kD];

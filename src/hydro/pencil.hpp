@@ -27,8 +27,8 @@ struct Pencil {
   int n = 0, N = 0, M = 0;   // interior cells, cells with ghosts, materials
   // The run's index of each of the pencil's materials. A sweep carries only the materials present
   // somewhere in the pencil, ghosts included (no other can enter it in the sweep), so that a pencil
-  // of pure air or pure sand costs what a one-material run does. The body's load is booked by the
-  // run's index.
+  // of pure air or pure sand does one material's work after a scan of each material's fractions.
+  // The body's load is booked by the run's index.
   int mat[kMaxMaterials] = {};
   bool radial = false;       // axisymmetric or spherical r-sweep: swept volumes are annuli or shells
   bool spherical = false;    // spherical r-sweep: volumes r^3 / 3 per steradian

@@ -96,7 +96,12 @@ void Solver::paint(int mat, const std::function<bool(const Vec3&)>& inside, doub
         const double f = all > 0.0 ? in / all : 0.0;
         if (f <= 0.0) continue;
         const std::size_t cell = grid_.index(i, j, k);
-        for (std::size_t q = 0; q < fields_.size(); ++q) fields_[q].alpha[cell] *= (1.0 - f);
+        for (std::size_t q = 0; q < fields_.size(); ++q) {
+          fields_[q].alpha[cell] *= (1.0 - f);
+          // a material painted over is cleared, as the sweep clears one that leaves a cell: where a
+          // material's fraction is zero, so are its energy, history and stress
+          if (fields_[q].alpha[cell] == 0.0 && q != static_cast<std::size_t>(mat)) fields_[q].clearCell(cell);
+        }
         F.alpha[cell] += f;
         F.rho[cell] = rho;
         F.e[cell] = e;
@@ -894,8 +899,10 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
 
 // The materials the pencil carries (Pencil::mat): those present in any of its cells, ghosts
 // included, in the run's order. Leaving out a material that is absent from the whole pencil
-// changes no number (its fraction, mass, energy and fluxes are zeros that the kernels' sums skip,
-// and it is already cleared in every cell), so the result is the same to the bit.
+// changes no number: its fraction and mass are zero in every cell, so its fluxes and shares are
+// zeros that the kernels' sums skip, and its other values are multiplied by them. The sweep leaves
+// such a material's cells as they are, where carrying it would clear them again (they are cleared
+// already where the sweep or paint emptied them).
 void Solver::selectMaterials(Pencil& P, int d, std::size_t base) const {
   const int M = materialCount(), N = P.N;
   const std::ptrdiff_t stride = grid_.stride(d);
