@@ -28,7 +28,7 @@ LevelSizes sizesOf(ValidationLevel level) {
   // The 3D V-plates: 10 mm at the full level (the published 5 mm needs a cluster: docs/validate.md),
   // 60 mm at the quick level (the pipeline and the ordering, a few seconds each).
   // The mesh study's finest three (judged) are 5, 4 and 3 mm at the full level: the published study
-  // stopped at 4 mm; 3 mm shows whether what is judged there has settled (about 30 min on 2 threads).
+  // stopped at 4 mm; 3 mm shows whether what is judged there has settled (73 min on one thread, measured).
   if (level == ValidationLevel::Full) return {{10.0, 6.0, 5.0, 4.0, 3.0}, 5.0, 10.0, 3.0, 10.0};
   // The quick level's mesh study stops at 12 mm, so that the whole quick level stays a few minutes
   // of CI's time (the 10 mm case alone is about 16,000 steps); its soil bubble at 8 mm.

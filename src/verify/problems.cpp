@@ -470,7 +470,7 @@ void jwlDetonation(const std::string& explosive, const std::vector<int>& levels,
 // products-air contact and the remap add, which at coarse cells drives the products' late pressure
 // (docs/solver.md). No tracking of any kind. Informative: the aim (within 5% at 20 cells
 // per slab) is not met yet (docs/solver.md says where the excess sits: the tenth of the mass
-// nearest the air and the tenth at the wall converge at about half order, the rest at second).
+// nearest the air converges at about half order, the tenth at the wall at 0.5-0.85, the rest at second).
 void productsIsentrope(const std::vector<int>& levels, Report& rep) {
   const std::string name = "products-isentrope";
   const std::size_t first = rep.rows.size();

@@ -687,6 +687,7 @@ TEST(Solver, PencilsCarryingOnlyTheirMaterialsGiveTheSameResultToTheBit) {
   EXPECT_EQ(load_lean, load_full);
   EXPECT_EQ(lean.energyLedger().boundary_in, full.energyLedger().boundary_in);
   EXPECT_EQ(lean.energyLedger().target_work, full.energyLedger().target_work);
+  EXPECT_EQ(lean.energyLedger().gravity_work, full.energyLedger().gravity_work);
   const std::vector<double> by_mat_full(load_full.begin() + 1, load_full.begin() + 4);
   // the case is what it claims: air presses the plate down, sand pushes it up, products are in the run
   EXPECT_LT(by_mat_full[0], 0.0);
