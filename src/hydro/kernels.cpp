@@ -504,20 +504,23 @@ void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     const double offset = sign * 0.5 * S.width[sD] * (1.0 - bfrac);
     // material volumes: THINC where an interface faces the sweep, the donor mean elsewhere,
     // normalised to the swept volume and never more than a donor holds
-    double raw_sum = 0.0, raw[kMaxMaterials], held = 0.0;
+    double raw_sum = 0.0, raw[kMaxMaterials];
     for (int k = 0; k < M; ++k) {
       const std::size_t kD = P.at(k, D);
-      held += P.vk[kD];
       const double al = P.vk[kD] / vD;
       const double wl = P.wl[kD];
       raw[k] = M == 1 ? bfrac : wl * thincOutflow(al, P.a[kD - 1], P.a[kD + 1], bfrac, out_high, S.thinc_beta) + (1.0 - wl) * al * bfrac;
       raw_sum += raw[k];
     }
     const double target = std::abs(dvf);
+    // no profile anywhere (never met in practice): by the donor's volumes, which do not depend on
+    // the materials the pencil carries
+    double held = 0.0;
+    if (!(raw_sum > 0.0))
+      for (int k = 0; k < M; ++k) held += P.vk[P.at(k, D)];
     double dvk[kMaxMaterials], excess = 0.0, room = 0.0;
     for (int k = 0; k < M; ++k) {
       const std::size_t kD = P.at(k, D);
-      // (no profile anywhere: by the donor's volumes, which do not depend on the materials carried)
       dvk[k] = raw_sum > 0.0 ? raw[k] / raw_sum * target : (held > 0.0 ? P.vk[kD] / held * target : target / M);
       if (dvk[k] > P.vk[kD]) {
         excess += dvk[k] - P.vk[kD];

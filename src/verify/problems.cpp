@@ -498,11 +498,11 @@ void productsIsentrope(const std::vector<int>& levels, Report& rep) {
       const std::size_t c = g.index(i, 0, 0);
       if (F.alpha[c] < 0.99) continue;
       const double V = ex.jwl.rho0 / F.rho[c], m = F.rho[c] * g.cellVolume(i, 0, 0);
-      const double ratio = ex.jwl.rho0 * F.e[c] / isentrope.energy(V);
+      const double Es = isentrope.energy(V), ratio = ex.jwl.rho0 * F.e[c] / Es;
       mass += m;
       excess += m * (ratio - 1.0);
       e_held += m * F.e[c];
-      e_isen += m * isentrope.energy(V) / ex.jwl.rho0;
+      e_isen += m * Es / ex.jwl.rho0;
       prof.x.push_back(V);
       prof.numeric.push_back(ratio);
       prof.exact.push_back(1.0);
