@@ -85,6 +85,7 @@ struct PencilLedger {
   double boundary_in = 0.0;    // across the pencil's two end faces, into the block
   double target_work = 0.0;    // done by the flow on the moving body
   double gravity_work = 0.0;   // done by gravity on the flow
+  double folded_mass[kMaxMaterials] = {};          // kg by the run's material index (Solver::scatterPencil)
   double impulse_total[3] = {};                    // N s: the load itself (normal stress and friction)
   double impulse_on_body[kMaxMaterials][3] = {};   // N s by material beside the face: the normal load
                                                    // (along d, against the reference pressure, which

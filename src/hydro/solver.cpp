@@ -33,6 +33,8 @@ Solver::Solver(mesh::Grid grid, std::vector<materials::Material> materials, Solv
     any_strength_ = any_strength_ || m.hasStrength();
   }
   if (!(opt_.cfl > 0.0 && opt_.cfl <= 0.9)) throw InputError("cfl", fmt::format("{:g} is out of range; valid (0, 0.9]", opt_.cfl));
+  if (!(opt_.fragment_fold >= 0.0 && opt_.fragment_fold <= kAlphaMin))
+    throw InputError("fragment_fold", fmt::format("{:g} is out of range; valid [0, {:g}]", opt_.fragment_fold, kAlphaMin));
   if (grid_.curvilinear() && opt_.boundary[0][0] != BoundaryKind::Reflect && grid_.axis(0).lo() == 0.0)
     throw InputError("boundary.r_min", "the axis r = 0 must be a symmetry (reflect) boundary");
   const std::size_t total = grid_.totalCells();
@@ -333,6 +335,7 @@ Totals Solver::totalsOf(const std::vector<double>& columns) const {
   t.boundary_in = energy_.boundary_in;
   t.target_work = energy_.target_work;
   t.gravity_work = energy_.gravity_work;
+  t.folded_mass.assign(energy_.folded_mass.begin(), energy_.folded_mass.begin() + static_cast<std::ptrdiff_t>(M));
   for (std::size_t at = 0; at + R <= columns.size(); at += R) {
     for (std::size_t q = 0; q < M; ++q) {
       t.mass[q] += columns[at + q];
@@ -567,6 +570,8 @@ void Solver::assemble(const Solver& mine, parallel::Exchange& ex) {
   // in (i, j, k) order (packCell)
   std::vector<double> out{static_cast<double>(g.offset0() + i_lo), static_cast<double>(g.offset0() + i_hi), mine.energy_.boundary_in,
                           mine.energy_.target_work, mine.energy_.gravity_work, mine.stats_.cell_updates};
+  const std::size_t nm = mats_.size();
+  out.insert(out.end(), mine.energy_.folded_mass.begin(), mine.energy_.folded_mass.begin() + static_cast<std::ptrdiff_t>(nm));
   for (int i = i_lo; i < i_hi; ++i)
     for (int j = j_lo; j < j_hi; ++j)
       for (int k = k_lo; k < k_hi; ++k) mine.packCell(g.index(i, j, k), out);
@@ -580,7 +585,8 @@ void Solver::assemble(const Solver& mine, parallel::Exchange& ex) {
     energy_.target_work += all.at(at + 3);
     energy_.gravity_work += all.at(at + 4);
     updates += all.at(at + 5);
-    at += 6;
+    for (std::size_t k = 0; k < nm; ++k) energy_.folded_mass[k] += all.at(at + 6 + k);
+    at += 6 + nm;
     for (int i = first; i < last; ++i)
       for (int j = j_lo; j < j_hi; ++j)
         for (int k = k_lo; k < k_hi; ++k) at = unpackCell(grid_.index(i, j, k), all, at);
@@ -922,7 +928,7 @@ void Solver::selectMaterials(Pencil& P, int d, std::size_t base) const {
 
 // The new Eulerian state of the pencil's interior cells. Returns the first cell that went bad
 // (non-finite or non-positive), or SIZE_MAX.
-std::size_t Solver::scatterPencil(const Pencil& P, int d, std::size_t base) {
+std::size_t Solver::scatterPencil(const Pencil& P, int d, std::size_t base, PencilLedger& ledger) {
   const int g = kGhost, n = P.n, M = P.M;
   const std::ptrdiff_t stride = grid_.stride(d);
   std::size_t bad = std::numeric_limits<std::size_t>::max();
@@ -973,6 +979,42 @@ std::size_t Solver::scatterPencil(const Pencil& P, int d, std::size_t base) {
     }
     const double V = P.vol[si];
     bool ok = m > 0.0 && std::isfinite(m);
+    // Fragments: a material below fragment_fold of the cell's volume gives its volume, mass and
+    // internal energy to the cell's other materials (by their volumes): the cell's mass, momentum
+    // and energy stay to round-off, and the mass each material gives or takes is booked. The remap's
+    // profile never takes a fraction to zero (traces down to 1e-50 spread over the mesh), and every
+    // trace costs its pencil the material in every kernel.
+    double mk_own[kMaxMaterials], fold_v = 0.0, fold_m = 0.0, fold_e = 0.0, keep_v = 0.0;
+    int kept = 0;
+    for (int k = 0; k < M; ++k) {
+      mk_own[k] = mk_new[k];
+      ie_new[k] += add[k];
+    }
+    if (opt_.fragment_fold > 0.0 && holders > 1) {
+      for (int k = 0; k < M; ++k) {
+        if (mk_new[k] <= 0.0) continue;
+        if (vk_new[k] < opt_.fragment_fold * vs) {
+          fold_v += vk_new[k];
+          fold_m += mk_new[k];
+          fold_e += ie_new[k];
+          ledger.folded_mass[P.mat[k]] += mk_new[k];
+          mk_new[k] = mk_own[k] = vk_new[k] = ie_new[k] = 0.0;
+        } else {
+          keep_v += vk_new[k];
+          ++kept;
+        }
+      }
+      // keep_v > 0: the largest material holds at least vs / M, far above the cut
+      if (fold_v > 0.0)
+        for (int k = 0; k < M; ++k) {
+          if (mk_new[k] <= 0.0) continue;
+          const double w = vk_new[k] / keep_v, before = mk_new[k];
+          vk_new[k] = kept == 1 ? vs : vk_new[k] + w * fold_v;   // one left: its fraction exactly 1
+          mk_new[k] += w * fold_m;
+          ledger.folded_mass[P.mat[k]] -= mk_new[k] - before;   // what it took, exactly
+          ie_new[k] += w * fold_e;
+        }
+    }
     for (int k = 0; k < M; ++k) {
       auto& F = fields_[static_cast<std::size_t>(P.mat[k])];
       const std::size_t ki = P.at(k, i), kf = P.atFace(k, i);
@@ -983,10 +1025,11 @@ std::size_t Solver::scatterPencil(const Pencil& P, int d, std::size_t base) {
       const double al = vk_new[k] / vs;
       F.alpha[c] = al;
       F.rho[c] = mk_new[k] / (al * V);
-      F.e[c] = (ie_new[k] + add[k]) / mk_new[k];
-      F.h0[c] = (P.h[ki] * P.mk[ki] + P.fh[kf] - P.fh[kf + 1]) / mk_new[k];
+      F.e[c] = ie_new[k] / mk_new[k];
+      // history and deviatoric stress are the material's own: the fragments' do not mix in
+      F.h0[c] = (P.h[ki] * P.mk[ki] + P.fh[kf] - P.fh[kf + 1]) / mk_own[k];
       if (!F.s[0].empty())
-        for (std::size_t q = 0; q < 6; ++q) F.s[q][c] = (P.s[q][ki] * P.mk[ki] + P.fs[q][kf] - P.fs[q][kf + 1]) / mk_new[k];
+        for (std::size_t q = 0; q < 6; ++q) F.s[q][c] = (P.s[q][ki] * P.mk[ki] + P.fs[q][kf] - P.fs[q][kf + 1]) / mk_own[k];
       ok = ok && std::isfinite(F.rho[c]) && F.rho[c] > 0.0 && std::isfinite(F.e[c]);
     }
     for (std::size_t q = 0; q < 3; ++q) {
@@ -1087,7 +1130,7 @@ void Solver::sweep(int d, double dt) {
         lagrangeUpdate(P, S, ledger);
         remapFluxes(P, S, ledger);
         if (moved) moveCellVolumes(P, S);
-        my_bad = std::min(my_bad, scatterPencil(P, d, base));
+        my_bad = std::min(my_bad, scatterPencil(P, d, base, ledger));
       }
 #pragma omp critical
     bad_cell = std::min(bad_cell, my_bad);
@@ -1106,6 +1149,7 @@ void Solver::sweep(int d, double dt) {
     energy_.boundary_in += l.boundary_in;
     energy_.target_work += l.target_work;
     energy_.gravity_work += l.gravity_work;
+    for (int k = 0; k < M; ++k) energy_.folded_mass[static_cast<std::size_t>(k)] += l.folded_mass[k];
     if (exchange_) continue;
     // the total from the stress itself: the by-material split is against the reference pressure,
     // which cancels over the plate's top and bottom but not over a rim or a symmetry-plane cut
@@ -1176,6 +1220,7 @@ void Solver::startAt(double t, const EnergyLedger& booked) {
   energy_.boundary_in += booked.boundary_in;
   energy_.target_work += booked.target_work;
   energy_.gravity_work += booked.gravity_work;
+  for (std::size_t k = 0; k < energy_.folded_mass.size(); ++k) energy_.folded_mass[k] += booked.folded_mass[k];
 }
 
 Vec3 Solver::bodyLoad() const {

@@ -46,9 +46,11 @@ struct DetonationPoint {
 // term; 4: mixed-cell work along each material's polytrope, relaxation heat capped per unit mass;
 // 5: a wall's load never below the tension limit of the flow beside it, a free target moves the mesh;
 // 6: 3D runs take the axisymmetric early time; 2D results are revision 5's; 7: mixed-cell
-// relaxation at the common pressure of the pressures after the volume change, nothing routed).
-// `ejecta validate --reuse` reruns a case saved by another revision.
-inline constexpr int kSolverRevision = 7;
+// relaxation at the common pressure of the pressures after the volume change, nothing routed;
+// 8: fragments under SolverOptions::fragment_fold folded into their cells' other materials).
+// `ejecta validate --reuse` reruns a case saved by another revision; a checkpoint of another
+// revision is refused (its energy books differ in layout too).
+inline constexpr int kSolverRevision = 8;
 
 struct SolverOptions {
   double cfl = 0.45;                     // - Courant number of each sweep
@@ -66,6 +68,11 @@ struct SolverOptions {
   // Every pencil carries every material, not only those present in it (Pencil::mat): the same
   // result to the bit, slower; kept so that a test can hold the two against each other.
   bool carry_all_materials = false;
+  // A material below this fraction of a cell's volume is folded into the cell's other materials
+  // (volume, mass and internal energy, by their volumes; the cell's mass, momentum and energy
+  // stay, and EnergyLedger::folded_mass books what each material gave). 0: never. At most
+  // kAlphaMin, below which a material only rides along (docs/solver.md, Fragments).
+  double fragment_fold = 1e-10;
 };
 
 // One material's fields over the block (ghosts included), flat arrays.
@@ -85,6 +92,9 @@ struct EnergyLedger {
   double boundary_in = 0.0;    // through the block's boundary faces (outflow negative)
   double target_work = 0.0;    // work done by the flow on the moving body
   double gravity_work = 0.0;   // work done by gravity on the flow
+  // kg by material (the run's order): the mass it gave to other materials by folding its fragments,
+  // less what it took from theirs. The mass books close with it: held + folded = initial + inflow.
+  std::array<double, kMaxMaterials> folded_mass{};
 };
 
 struct Totals {
@@ -94,6 +104,7 @@ struct Totals {
   double kinetic_energy = 0.0;   // J
   std::vector<double> internal_by_material, kinetic_by_material;   // J
   double boundary_in = 0.0, target_work = 0.0, gravity_work = 0.0;  // J, EnergyLedger so far
+  std::vector<double> folded_mass;   // kg per material, EnergyLedger::folded_mass so far
   double total() const { return internal_energy + kinetic_energy; }   // held in the cells
   // What the cells should hold given E0 = total() at the start: E0 + inflow - work + gravity.
   double accounted(double e0) const { return e0 + boundary_in - target_work + gravity_work; }
@@ -219,7 +230,7 @@ class Solver {
   void sweep(int d, double dt);
   void selectMaterials(Pencil& P, int d, std::size_t base) const;
   void gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, const SweepSetup& S) const;
-  std::size_t scatterPencil(const Pencil& P, int d, std::size_t base);
+  std::size_t scatterPencil(const Pencil& P, int d, std::size_t base, PencilLedger& ledger);
   void updateBurn(double dt);
   void updateStress(double dt);
   void checkCell(std::size_t cell, const char* stage) const;

@@ -72,6 +72,7 @@ Case buildCase(const Deck& deck, const FineBlock* block) {
   const int up = cs.vertical;
   hydro::SolverOptions o;
   o.cfl = deck.cfl;
+  o.fragment_fold = deck.fragment_fold;
   o.load_reference_pressure = deck.air_pressure_pa;   // the plate's load by material against the atmosphere
   // low sides: axis or symmetry planes; high sides: outflow; the bottom: rigid ground
   for (auto& b : o.boundary) b = {mesh::BoundaryKind::Reflect, mesh::BoundaryKind::Transmit};

@@ -81,6 +81,9 @@ std::vector<Key> makeKeys() {
       flag("", "gravity", top<&Deck::gravity>, "body force -9.81 m/s2 on the flow and the plate"),
       number("", "end_time_s", top<&Deck::end_time_s>, "s", {0.0, 1.0, true}, "simulated time"),
       number("", "cfl", top<&Deck::cfl>, "-", {0.05, 0.9}, "Courant number of each sweep"),
+      number("", "fragment_fold", top<&Deck::fragment_fold>, "-", {0.0, 1e-8},
+             "a material under this fraction of a cell's volume is folded into the cell's other materials (mass, momentum and energy kept; "
+             "summary.json books each material's folded mass); 0: never (docs/solver.md, Fragments)"),
 
       number("mesh", "cell_size_m", in<&Deck::mesh, &MeshSpec::cell_size_m>, "m", {1e-4, 0.1}, "uniform core cell"),
       number("mesh", "grading", in<&Deck::mesh, &MeshSpec::grading>, "-", {1.0, 1.5}, "growth per cell outside the core"),

@@ -97,6 +97,7 @@ struct Deck {
   bool gravity = true;
   double end_time_s = 0.01;
   double cfl = 0.45;
+  double fragment_fold = 1e-10;
   EarlySpec early;
   OutputSpec output;
   nlohmann::json echo;   // the resolved deck: every key's value after the file, --set and the defaults

@@ -522,7 +522,12 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     for (const auto& w : early_warnings) say("early time: warning: " + w);
     const auto rz = onto_3d ? hydro::mapAxisymmetricToQuarter(fs_, s) : hydro::mapNested(fs_, s);
     const auto& led = fs_.energyLedger();
-    s.startAt(fs_.time(), {to_run * led.boundary_in, to_run * led.target_work, to_run * led.gravity_work});
+    hydro::EnergyLedger booked;
+    booked.boundary_in = to_run * led.boundary_in;
+    booked.target_work = to_run * led.target_work;
+    booked.gravity_work = to_run * led.gravity_work;
+    for (std::size_t k = 0; k < booked.folded_mass.size(); ++k) booked.folded_mass[k] = to_run * led.folded_mass[k];
+    s.startAt(fs_.time(), booked);
     // the initial energy as the fine run painted the block: the books then close over both runs
     st.energy_initial = s.totals().total() - to_run * (fine_tot.total() - e_fine0);
     const double wall_early = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_early0).count();
@@ -718,6 +723,14 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     for (std::size_t k = 0; k < nmat; ++k)
       mats.push_back({{"name", s.materials()[k].name}, {"kind", cs.material_kind[k]}, {"mass_kg", cs.symmetry * tot.mass[k]}});
     sum["totals"] = {{"materials", mats}, {"flow_momentum_vertical_Ns", cs.symmetry * tot.momentum[up]}};
+    // Fragments folded into other materials (docs/solver.md, Fragments): books, summed pencil by
+    // pencil (on MPI ranks slab by slab, so equal to round-off, where totals are equal to the bit).
+    nlohmann::json folded = nlohmann::json::object();
+    for (std::size_t k = 0; k < nmat; ++k) folded[s.materials()[k].name] = cs.symmetry * tot.folded_mass[k];
+    sum["fragments"] = {{"fold_below", deck.fragment_fold},
+                        {"folded_mass_kg", folded},
+                        {"note", "each material's mass given to other materials by folding its fragments, less what it took; "
+                                 "totals.materials' mass_kg + folded_mass_kg = the initial mass less the net outflow"}};
   }
   sum["early_time"] = early_json;
   sum["charge"] = {{"radius_m", cs.charge.radius_m}, {"height_m", cs.charge.height_m}, {"z_top_m", cs.charge.z_top_m},
