@@ -360,7 +360,7 @@ void noh(const std::vector<int>& levels, Report& rep) {
 }
 
 // A heavy disc carried diagonally through a periodic box by a uniform flow, then back: material
-// masses must be kept to round-off and the shape kept sharp.
+// masses (held plus folded, Solver's fragments) must be kept to round-off and the shape kept sharp.
 void interfaceAdvection(const std::vector<int>& levels, Report& rep) {
   const std::size_t first = rep.rows.size();
   std::size_t last_shape = first;
