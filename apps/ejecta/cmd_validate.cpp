@@ -207,7 +207,7 @@ Action addValidateCommand(CLI::App& app) {
                                  "sensitivity to the unknown inputs, DRES soil bubble) and writes the report: validation.md + PNG\n"
                                  "figures, a self-contained validation.html and validation.json. Exit code 4 if a check fails.");
   sub->add_flag("--quick", o->quick, "Coarse cells, a few minutes on 2 cores (the default)");
-  sub->add_flag("--full", o->full, "The published resolution: plates at 5 mm, mesh study 10/6/5/4/3 mm, soil bubble 3 mm, sensitivity 10 mm (about 2.5 hours on 2 cores; the 3D V-plates at 10 mm about 3.5 hours more)");
+  sub->add_flag("--full", o->full, "The published resolution: plates at 5 mm, mesh study 10/6/5/4/3 mm, soil bubble 3 mm, sensitivity 10 mm (about 2.5 hours on 2 cores; the 3D V-plates at 10 mm 3-4 hours a case more)");
   sub->add_option("--only", o->only, "Studies to run, comma-separated: mesh, moisture, field, share, sensitivity, dres (default: all)")
       ->delimiter(',');
   sub->add_option("--out", o->out, "Report folder (default out/validate)");
