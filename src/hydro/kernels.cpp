@@ -77,6 +77,35 @@ void shareHeat(int M, const double* mass, const double* loss, double heat, const
     for (int k = 0; k < M; ++k) add[k] += (heat - given) * mass[k] / m;
 }
 
+void foldFragments(int M, double cut, double vs, double* vk, double* mk, double* ie, double* folded) {
+  double fold_v = 0.0, fold_m = 0.0, fold_e = 0.0, keep_v = 0.0;
+  int kept = 0;
+  for (int k = 0; k < M; ++k) {
+    folded[k] = 0.0;
+    if (mk[k] <= 0.0) continue;
+    if (vk[k] < cut * vs) {
+      fold_v += vk[k];
+      fold_m += mk[k];
+      fold_e += ie[k];
+      folded[k] = mk[k];
+      mk[k] = vk[k] = ie[k] = 0.0;
+    } else {
+      keep_v += vk[k];
+      ++kept;
+    }
+  }
+  if (!(fold_v > 0.0)) return;
+  // keep_v > 0: the largest material holds at least vs / M, far above the cut
+  for (int k = 0; k < M; ++k) {
+    if (mk[k] <= 0.0) continue;
+    const double w = vk[k] / keep_v, before = mk[k];
+    vk[k] = kept == 1 ? vs : vk[k] + w * fold_v;   // one left: its fraction exactly 1
+    mk[k] += w * fold_m;
+    folded[k] = -(mk[k] - before);   // what it took, exactly
+    ie[k] += w * fold_e;
+  }
+}
+
 // ------------------------------------------------------------------------------------------------
 
 void nearWallShares(const Pencil& P, const SweepSetup& S, int from, int step, double depth, double* share) {

@@ -160,6 +160,13 @@ void moveCellVolumes(Pencil& P, const SweepSetup& S);
 // `add[k]` sums to `heat` exactly.
 void shareHeat(int M, const double* mass, const double* loss, double heat, const double* held, double* add);
 
+// Fragments of one cell (docs/solver.md, Fragments): each material under `cut` of the cell's volume
+// `vs` gives its volume `vk`, mass `mk` and internal energy `ie` (J) to the others, by their
+// volumes, and ends with all three zero; if one material is left its volume is `vs` exactly.
+// `folded[k]` (kg) is what material k gave, or minus what it took (exactly its mass's change).
+// The sums of mass and energy stay to round-off. Call with at least two materials holding mass.
+void foldFragments(int M, double cut, double vs, double* vk, double* mk, double* ie, double* folded);
+
 // Fraction of the donor's volume that is material k and leaves through the face, for a swept
 // fraction b of the donor, from a THINC (tanh) profile (Xiao, Honma & Kono 2005).
 double thincOutflow(double a, double a_lo, double a_hi, double b, bool out_high, double beta);

@@ -979,41 +979,19 @@ std::size_t Solver::scatterPencil(const Pencil& P, int d, std::size_t base, Penc
     }
     const double V = P.vol[si];
     bool ok = m > 0.0 && std::isfinite(m);
-    // Fragments: a material below fragment_fold of the cell's volume gives its volume, mass and
-    // internal energy to the cell's other materials (by their volumes): the cell's mass, momentum
-    // and energy stay to round-off, and the mass each material gives or takes is booked. The remap's
-    // profile never takes a fraction to zero (traces down to 1e-50 spread over the mesh), and every
-    // trace costs its pencil the material in every kernel.
-    double mk_own[kMaxMaterials], fold_v = 0.0, fold_m = 0.0, fold_e = 0.0, keep_v = 0.0;
-    int kept = 0;
+    // Fragments under fragment_fold of the cell go to its other materials (foldFragments), their
+    // mass booked by the run's index. The remap's profile never takes a fraction to zero (traces
+    // down to 1e-50 spread over the mesh), and every trace costs its pencil the material in every
+    // kernel. History and stress stay each material's own (mk_own: its mass before the fold).
+    double mk_own[kMaxMaterials];
     for (int k = 0; k < M; ++k) {
       mk_own[k] = mk_new[k];
       ie_new[k] += add[k];
     }
     if (opt_.fragment_fold > 0.0 && holders > 1) {
-      for (int k = 0; k < M; ++k) {
-        if (mk_new[k] <= 0.0) continue;
-        if (vk_new[k] < opt_.fragment_fold * vs) {
-          fold_v += vk_new[k];
-          fold_m += mk_new[k];
-          fold_e += ie_new[k];
-          ledger.folded_mass[P.mat[k]] += mk_new[k];
-          mk_new[k] = mk_own[k] = vk_new[k] = ie_new[k] = 0.0;
-        } else {
-          keep_v += vk_new[k];
-          ++kept;
-        }
-      }
-      // keep_v > 0: the largest material holds at least vs / M, far above the cut
-      if (fold_v > 0.0)
-        for (int k = 0; k < M; ++k) {
-          if (mk_new[k] <= 0.0) continue;
-          const double w = vk_new[k] / keep_v, before = mk_new[k];
-          vk_new[k] = kept == 1 ? vs : vk_new[k] + w * fold_v;   // one left: its fraction exactly 1
-          mk_new[k] += w * fold_m;
-          ledger.folded_mass[P.mat[k]] -= mk_new[k] - before;   // what it took, exactly
-          ie_new[k] += w * fold_e;
-        }
+      double folded[kMaxMaterials];
+      foldFragments(M, opt_.fragment_fold, vs, vk_new, mk_new, ie_new, folded);
+      for (int k = 0; k < M; ++k) ledger.folded_mass[P.mat[k]] += folded[k];
     }
     for (int k = 0; k < M; ++k) {
       auto& F = fields_[static_cast<std::size_t>(P.mat[k])];

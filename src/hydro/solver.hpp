@@ -95,6 +95,11 @@ struct EnergyLedger {
   // kg by material (the run's order): the mass it gave to other materials by folding its fragments,
   // less what it took from theirs. The mass books close with it: held + folded = initial + inflow.
   std::array<double, kMaxMaterials> folded_mass{};
+  EnergyLedger scaled(double f) const {   // the books of a run mapped onto f times its volume
+    EnergyLedger l{f * boundary_in, f * target_work, f * gravity_work, {}};
+    for (std::size_t k = 0; k < folded_mass.size(); ++k) l.folded_mass[k] = f * folded_mass[k];
+    return l;
+  }
 };
 
 struct Totals {

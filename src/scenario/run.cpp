@@ -522,12 +522,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     for (const auto& w : early_warnings) say("early time: warning: " + w);
     const auto rz = onto_3d ? hydro::mapAxisymmetricToQuarter(fs_, s) : hydro::mapNested(fs_, s);
     const auto& led = fs_.energyLedger();
-    hydro::EnergyLedger booked;
-    booked.boundary_in = to_run * led.boundary_in;
-    booked.target_work = to_run * led.target_work;
-    booked.gravity_work = to_run * led.gravity_work;
-    for (std::size_t k = 0; k < booked.folded_mass.size(); ++k) booked.folded_mass[k] = to_run * led.folded_mass[k];
-    s.startAt(fs_.time(), booked);
+    s.startAt(fs_.time(), led.scaled(to_run));
     // the initial energy as the fine run painted the block: the books then close over both runs
     st.energy_initial = s.totals().total() - to_run * (fine_tot.total() - e_fine0);
     const double wall_early = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_early0).count();

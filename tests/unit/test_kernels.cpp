@@ -139,6 +139,35 @@ TEST(Kernels, LoadByMaterialNearTheWallCountsALayerOfFixedDepth) {
   EXPECT_NEAR(led.impulse_near_body[0][1][0], imp, 1e-15);
 }
 
+// foldFragments: a trace under the cut goes to the others by their volumes with its mass and
+// energy; the books say what each gave or took; with one material left its volume is the cell's.
+TEST(Kernels, FragmentsUnderTheCutGoToTheOtherMaterialsByVolume) {
+  const double vs = 1.0;
+  double vk[3] = {0.75, 2e-11, 0.25 - 2e-11}, mk[3] = {0.75, 4e-11, 0.5}, ie[3] = {1.5, 8e-10, 2.0}, folded[3];
+  hydro::foldFragments(3, 1e-10, vs, vk, mk, ie, folded);
+  EXPECT_EQ(vk[1], 0.0);
+  EXPECT_EQ(mk[1], 0.0);
+  EXPECT_EQ(ie[1], 0.0);
+  EXPECT_EQ(folded[1], 4e-11);
+  EXPECT_NEAR(mk[0] - 0.75, 0.75 * 4e-11, 4e-16);   // by volume: 3/4 to the first
+  EXPECT_NEAR(mk[2] - 0.5, 0.25 * 4e-11, 4e-16);
+  EXPECT_EQ(folded[0], -(mk[0] - 0.75));
+  EXPECT_EQ(folded[2], -(mk[2] - 0.5));
+  EXPECT_NEAR(ie[0] + ie[2], 1.5 + 2.0 + 8e-10, 1e-15);
+  EXPECT_NEAR(vk[0] + vk[2], vs, 4e-16);
+  // one left: its volume is the cell's exactly; nothing under the cut: nothing moves
+  double vk1[2] = {1.0 - 5e-11, 5e-11}, mk1[2] = {1.0, 1e-10}, ie1[2] = {1.0, 1e-9}, f1[2];
+  hydro::foldFragments(2, 1e-10, 1.0, vk1, mk1, ie1, f1);
+  EXPECT_EQ(vk1[0], 1.0);
+  EXPECT_EQ(f1[1], 1e-10);
+  double vk2[2] = {0.5, 0.5}, mk2[2] = {1.0, 2.0}, ie2[2] = {3.0, 4.0}, f2[2];
+  hydro::foldFragments(2, 1e-10, 1.0, vk2, mk2, ie2, f2);
+  EXPECT_EQ(mk2[0], 1.0);
+  EXPECT_EQ(vk2[1], 0.5);
+  EXPECT_EQ(f2[0], 0.0);
+  EXPECT_EQ(f2[1], 0.0);
+}
+
 TEST(Kernels, MixedCellRelaxationWorksBothMaterialsAtOneCommonPressure) {
   // Products at 1 GPa beside air at 1 atm in one cell, nothing else happening: relaxation expands
   // the products and squeezes the air, both working at the same pressure, which lies between
