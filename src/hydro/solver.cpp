@@ -431,46 +431,60 @@ std::string Solver::describeLimitingCell() const {
 void Solver::fillGhosts(int d) {
   if (d >= grid_.dims()) return;
   const int n = grid_.cells(d);
-  const int t1 = (d + 1) % 3, t2 = (d + 2) % 3;
-  const int lo1 = -grid_.ghost(t1), hi1 = grid_.cells(t1) + grid_.ghost(t1);
-  const int lo2 = -grid_.ghost(t2), hi2 = grid_.cells(t2) + grid_.ghost(t2);
+  // The plane's two transverse axes, the one with the smaller stride inside (axis 2 is contiguous):
+  // a plane normal to axis 1 walked with axis 0 inside strides over whole slabs per cell.
+  const int t_out = std::min((d + 1) % 3, (d + 2) % 3), t_in = std::max((d + 1) % 3, (d + 2) % 3);
+  const int lo_out = -grid_.ghost(t_out), hi_out = grid_.cells(t_out) + grid_.ghost(t_out);
+  const int lo_in = -grid_.ghost(t_in), hi_in = grid_.cells(t_in) + grid_.ghost(t_in);
   auto at = [&](int along, int a, int b) {
     int idx[3];
     idx[d] = along;
-    idx[t1] = a;
-    idx[t2] = b;
+    idx[t_out] = a;
+    idx[t_in] = b;
     return grid_.index(idx[0], idx[1], idx[2]);
   };
+  std::vector<std::size_t>& dst = ghost_dst_;
+  std::vector<std::size_t>& src = ghost_src_;
   for (int side = 0; side < 2; ++side) {
     if (d == 0 && (side == 0 ? halo_lo_ : halo_hi_)) continue;   // the neighbouring slab's cells (exchangeHalo)
     const BoundaryKind kind = opt_.boundary[static_cast<std::size_t>(d)][static_cast<std::size_t>(side)];
-    for (int a = lo1; a < hi1; ++a)
-      for (int b = lo2; b < hi2; ++b)
+    dst.clear();
+    src.clear();
+    for (int a = lo_out; a < hi_out; ++a)
+      for (int b = lo_in; b < hi_in; ++b)
         for (int q = 0; q < kGhost; ++q) {
           const int ghost = side == 0 ? -1 - q : n + q;
-          int src = 0;
+          int from = 0;
           switch (kind) {
-            case BoundaryKind::Reflect: src = side == 0 ? q : n - 1 - q; break;
-            case BoundaryKind::Transmit: src = side == 0 ? 0 : n - 1; break;
-            case BoundaryKind::Periodic: src = side == 0 ? n - 1 - q : q; break;
+            case BoundaryKind::Reflect: from = side == 0 ? q : n - 1 - q; break;
+            case BoundaryKind::Transmit: from = side == 0 ? 0 : n - 1; break;
+            case BoundaryKind::Periodic: from = side == 0 ? n - 1 - q : q; break;
           }
-          src = std::clamp(src, 0, n - 1);
-          const std::size_t g = at(ghost, a, b), s = at(src, a, b);
-          for (std::size_t k = 0; k < fields_.size(); ++k) {
-            auto& f = fields_[k];
-            f.alpha[g] = f.alpha[s];
-            f.rho[g] = f.rho[s];
-            f.e[g] = f.e[s];
-            f.h0[g] = f.h0[s];
-            if (!f.s[0].empty())
-              for (int c = 0; c < 6; ++c) f.s[static_cast<std::size_t>(c)][g] = f.s[static_cast<std::size_t>(c)][s];
-            if (kind == BoundaryKind::Reflect && !f.s[0].empty())
-              for (int t = 0; t < 3; ++t)
-                if (t != d) f.s[static_cast<std::size_t>(stressIndex(d, t))][g] = -f.s[static_cast<std::size_t>(stressIndex(d, t))][s];
-          }
-          for (std::size_t c = 0; c < 3; ++c) u_[c][g] = u_[c][s];
-          if (kind == BoundaryKind::Reflect) u_[static_cast<std::size_t>(d)][g] = -u_[static_cast<std::size_t>(d)][s];
+          dst.push_back(at(ghost, a, b));
+          src.push_back(at(std::clamp(from, 0, n - 1), a, b));
         }
+    const std::size_t cells = dst.size();
+    auto copy = [&](std::vector<double>& v, double sign) {
+      for (std::size_t i = 0; i < cells; ++i) v[dst[i]] = sign * v[src[i]];
+    };
+    for (auto& f : fields_) {
+      // A material absent from the boundary's cells and from its ghosts has nothing to copy: its
+      // ghosts' fraction is already zero, and no kernel reads a material's state where it is zero.
+      bool present = false;
+      for (std::size_t i = 0; i < cells && !present; ++i) present = f.alpha[src[i]] != 0.0 || f.alpha[dst[i]] != 0.0;
+      if (!present) continue;
+      copy(f.alpha, 1.0);
+      copy(f.rho, 1.0);
+      copy(f.e, 1.0);
+      copy(f.h0, 1.0);
+      if (f.s[0].empty()) continue;
+      for (int c = 0; c < 6; ++c) {
+        // a mirror flips the shear stresses across it
+        const bool flip = kind == BoundaryKind::Reflect && c >= 3 && (c == stressIndex(d, (d + 1) % 3) || c == stressIndex(d, (d + 2) % 3));
+        copy(f.s[static_cast<std::size_t>(c)], flip ? -1.0 : 1.0);
+      }
+    }
+    for (std::size_t c = 0; c < 3; ++c) copy(u_[c], kind == BoundaryKind::Reflect && static_cast<int>(c) == d ? -1.0 : 1.0);
   }
 }
 

@@ -273,6 +273,7 @@ class Solver {
   bool any_strength_ = false;
   parallel::Exchange* exchange_ = nullptr;
   bool halo_lo_ = false, halo_hi_ = false;   // a neighbouring slab below / above along axis 0
+  std::vector<std::size_t> ghost_dst_, ghost_src_;   // fillGhosts' scratch: a boundary's ghost cells and the cells they copy
 };
 
 // Index of the deviatoric component shared by axes a and b (a == b: the normal component).
