@@ -35,6 +35,15 @@ Solver::Solver(mesh::Grid grid, std::vector<materials::Material> materials, Solv
   if (!(opt_.cfl > 0.0 && opt_.cfl <= 0.9)) throw InputError("cfl", fmt::format("{:g} is out of range; valid (0, 0.9]", opt_.cfl));
   if (!(opt_.fragment_fold >= 0.0 && opt_.fragment_fold <= kAlphaMin))
     throw InputError("fragment_fold", fmt::format("{:g} is out of range; valid [0, {:g}]", opt_.fragment_fold, kAlphaMin));
+  if (!opt_.inflow_barred.empty()) {
+    const int M = static_cast<int>(mats_.size());
+    if (opt_.inflow_fill < 0 || opt_.inflow_fill >= M || mats_[static_cast<std::size_t>(opt_.inflow_fill)].eos != materials::EosKind::IdealGas)
+      throw InputError("inflow_fill", fmt::format("material {} must be an ideal gas of the {}", opt_.inflow_fill, M));
+    if (!(opt_.inflow_fill_rho > 0.0 && opt_.inflow_fill_p > 0.0 && std::isfinite(opt_.inflow_fill_rho) && std::isfinite(opt_.inflow_fill_p)))
+      throw InputError("inflow_fill", "its reference density and pressure must be positive");
+    for (const int k : opt_.inflow_barred)
+      if (k < 0 || k >= M || k == opt_.inflow_fill) throw InputError("inflow_barred", fmt::format("material {} is not one of the {} other than the fill", k, M));
+  }
   if (grid_.curvilinear() && opt_.boundary[0][0] != BoundaryKind::Reflect && grid_.axis(0).lo() == 0.0)
     throw InputError("boundary.r_min", "the axis r = 0 must be a symmetry (reflect) boundary");
   const std::size_t total = grid_.totalCells();
@@ -485,6 +494,36 @@ void Solver::fillGhosts(int d) {
       }
     }
     for (std::size_t c = 0; c < 3; ++c) copy(u_[c], kind == BoundaryKind::Reflect && static_cast<int>(c) == d ? -1.0 : 1.0);
+    if (kind == BoundaryKind::Transmit && !opt_.inflow_barred.empty()) barInflow(d, side);
+  }
+}
+
+// Where the flow enters through an outflow boundary, the barred materials' share of each ghost cell
+// becomes the fill gas at their pressure (SolverOptions::inflow_barred). The ghosts' cells and
+// sources are fillGhosts' lists for this side.
+void Solver::barInflow(int d, int side) {
+  const auto& gas = mats_[static_cast<std::size_t>(opt_.inflow_fill)];
+  const double gamma = gas.gas.gamma, p_ref = opt_.inflow_fill_p, rho_ref = opt_.inflow_fill_rho;
+  auto& A = fields_[static_cast<std::size_t>(opt_.inflow_fill)];
+  const auto& un = u_[static_cast<std::size_t>(d)];
+  for (std::size_t i = 0; i < ghost_dst_.size(); ++i) {
+    const double u_in = side == 0 ? un[ghost_src_[i]] : -un[ghost_src_[i]];
+    if (!(u_in > 0.0)) continue;   // leaving or at rest: the copy stands
+    const std::size_t g = ghost_dst_[i];
+    for (const int k : opt_.inflow_barred) {
+      auto& F = fields_[static_cast<std::size_t>(k)];
+      const double v = F.alpha[g];
+      if (!(v > 0.0)) continue;
+      // a floor of a thousandth of the reference pressure keeps the gas's density positive where
+      // the products have expanded to almost nothing
+      const double p = std::max(materials::evaluateEos(mats_[static_cast<std::size_t>(k)], F.rho[g], F.e[g], F.h0[g]).pressure, 1e-3 * p_ref);
+      const double rho = rho_ref * std::pow(p / p_ref, 1.0 / gamma), e = p / ((gamma - 1.0) * rho);
+      const double m_old = A.alpha[g] > 0.0 ? A.alpha[g] * A.rho[g] : 0.0, m_new = v * rho;
+      A.e[g] = ((m_old > 0.0 ? m_old * A.e[g] : 0.0) + m_new * e) / (m_old + m_new);
+      A.alpha[g] = (A.alpha[g] > 0.0 ? A.alpha[g] : 0.0) + v;
+      A.rho[g] = (m_old + m_new) / A.alpha[g];
+      F.clearCell(g);
+    }
   }
 }
 

@@ -47,10 +47,11 @@ struct DetonationPoint {
 // 5: a wall's load never below the tension limit of the flow beside it, a free target moves the mesh;
 // 6: 3D runs take the axisymmetric early time; 2D results are revision 5's; 7: mixed-cell
 // relaxation at the common pressure of the pressures after the volume change, nothing routed;
-// 8: fragments under SolverOptions::fragment_fold folded into their cells' other materials).
+// 8: fragments under SolverOptions::fragment_fold folded into their cells' other materials;
+// 9: outflow boundaries let no detonation products back in, SolverOptions::inflow_barred).
 // `ejecta validate --reuse` reruns a case saved by another revision; a checkpoint of another
 // revision is refused (its energy books differ in layout too).
-inline constexpr int kSolverRevision = 8;
+inline constexpr int kSolverRevision = 9;
 
 struct SolverOptions {
   double cfl = 0.45;                     // - Courant number of each sweep
@@ -73,6 +74,16 @@ struct SolverOptions {
   // stay, and EnergyLedger::folded_mass books what each material gave). 0: never. At most
   // kAlphaMin, below which a material only rides along (docs/solver.md, Fragments).
   double fragment_fold = 1e-10;
+  // Materials an outflow (Transmit) boundary does not let back in. A zero-gradient ghost stands for
+  // a medium that goes on past the boundary (the atmosphere, the ground); the products are a finite
+  // mass the run made, and the copy would draw them in without end wherever the flow turns inward.
+  // Where it does, a barred material's share of a ghost cell is filled with `inflow_fill` (an ideal
+  // gas, the ambient air) at the barred material's pressure, on the gas's isentrope through
+  // (inflow_fill_rho, inflow_fill_p): the ghost's pressure and velocity stay the copy's.
+  std::vector<int> inflow_barred;
+  int inflow_fill = 0;
+  double inflow_fill_rho = 1.225;        // kg/m3
+  double inflow_fill_p = 101325.0;       // Pa
 };
 
 // One material's fields over the block (ghosts included), flat arrays.
@@ -227,6 +238,7 @@ class Solver {
 
  private:
   void fillGhosts(int d);
+  void barInflow(int d, int side);
   void exchangeHalo(bool weights);   // axis 0's ghost layers from the neighbouring slabs: the state, or the interface weights
   void combineBodyLoad(const std::vector<double>& events);
   void packCell(std::size_t c, std::vector<double>& out) const;   // one cell's state, in the slabs' order

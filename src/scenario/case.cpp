@@ -73,6 +73,12 @@ Case buildCase(const Deck& deck, const FineBlock* block) {
   hydro::SolverOptions o;
   o.cfl = deck.cfl;
   o.fragment_fold = deck.fragment_fold;
+  if (!deck.outflow_readmits_products) {   // material 1: the products
+    o.inflow_barred = {1};
+    o.inflow_fill = 0;
+    o.inflow_fill_rho = deck.air_density_kg_m3;
+    o.inflow_fill_p = deck.air_pressure_pa;
+  }
   o.load_reference_pressure = deck.air_pressure_pa;   // the plate's load by material against the atmosphere
   // low sides: axis or symmetry planes; high sides: outflow; the bottom: rigid ground
   for (auto& b : o.boundary) b = {mesh::BoundaryKind::Reflect, mesh::BoundaryKind::Transmit};

@@ -84,6 +84,9 @@ std::vector<Key> makeKeys() {
       number("", "fragment_fold", top<&Deck::fragment_fold>, "-", {0.0, 1e-8},
              "a material under this fraction of a cell's volume is folded into the cell's other materials (mass, momentum and energy kept; "
              "summary.json books each material's folded mass); 0: never (docs/solver.md, Fragments)"),
+      flag("", "outflow_readmits_products", top<&Deck::outflow_readmits_products>,
+           "where the flow turns inward at an outflow side, let the products that left come back (a zero-gradient copy, as before solver revision 9); "
+           "default: what enters there is the ambient air (docs/solver.md, Boundaries)"),
 
       number("mesh", "cell_size_m", in<&Deck::mesh, &MeshSpec::cell_size_m>, "m", {1e-4, 0.1}, "uniform core cell"),
       number("mesh", "grading", in<&Deck::mesh, &MeshSpec::grading>, "-", {1.0, 1.5}, "growth per cell outside the core"),

@@ -98,6 +98,7 @@ struct Deck {
   double end_time_s = 0.01;
   double cfl = 0.45;
   double fragment_fold = 1e-10;
+  bool outflow_readmits_products = false;
   EarlySpec early;
   OutputSpec output;
   nlohmann::json echo;   // the resolved deck: every key's value after the file, --set and the defaults

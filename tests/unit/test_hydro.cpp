@@ -182,6 +182,38 @@ TEST(Solver, FragmentsBelowTheCutAreFoldedIntoTheCellsOtherMaterials) {
   for (int i = 0; i < 8; ++i) EXPECT_EQ(s.velocity(0)[g.index(i, 0, 0)], 0.0);
 }
 
+TEST(Solver, OutflowBoundaryLetsAirInWhereTheFlowEntersButNoProducts) {
+  // A tube of products drifting towards its low end: the low side lets them out, the high side
+  // draws in what lies past it. Barred, that is ambient air at the products' pressure (on the air's
+  // isentrope through the reference state); not barred, the zero-gradient copy draws in products.
+  auto run = [](bool barred) {
+    auto o = allBoundaries(BoundaryKind::Transmit);
+    if (barred) {
+      o.inflow_barred = {1};
+      o.inflow_fill = 0;
+      o.inflow_fill_rho = 1.2;
+      o.inflow_fill_p = 1e5;
+    }
+    hydro::Solver s(mesh::Grid(1, mesh::Geometry::Cartesian, {Axis::uniform(0.0, 1.0, 20), Axis{}, Axis{}}),
+                    {materials::idealGas("air", 1.4), materials::idealGas("products", 3.0)}, o);
+    s.paint(1, [](const Vec3&) { return true; }, 2.0, 1e5 / (2.0 * 2.0), {-100.0, 0.0, 0.0});   // p = 1e5 Pa
+    const auto a = s.totals();
+    s.advanceTo(2e-3);   // the products move 0.2 m: four cells' worth of air has come in
+    return std::tuple{a, s.totals(), s.field(0).alpha[s.grid().index(19, 0, 0)], s.field(0).rho[s.grid().index(19, 0, 0)],
+                      s.pressure(s.grid().index(19, 0, 0))};
+  };
+  const auto [a0, b0, air0, rho0, p0] = run(false);
+  EXPECT_NEAR(b0.mass[1], a0.mass[1], 1e-12 * a0.mass[1]);   // as much came in as went out
+  EXPECT_EQ(b0.mass[0], 0.0);
+  const auto [a1, b1, air1, rho1, p1] = run(true);
+  EXPECT_NEAR(b1.mass[1], 0.8 * a1.mass[1], 0.02 * a1.mass[1]);   // a fifth of the tube has left
+  EXPECT_NEAR(b1.mass[0], 0.2 * 1.2, 0.02 * 0.2 * 1.2);          // and air at 1.2 kg/m3 took its place
+  EXPECT_NEAR(air1, 1.0, 1e-6);   // the contact, four cells away, leaves traces (THINC)
+  EXPECT_NEAR(rho1, 1.2, 0.01 * 1.2);
+  EXPECT_NEAR(p1, 1e5, 0.01 * 1e5);                              // the contact carries no pressure jump
+  EXPECT_NEAR(b1.total(), b1.accounted(a1.total()), 1e-12 * a1.total());   // what came in is booked
+}
+
 TEST(Solver, AxisymmetricGasAtRestStaysAtRest) {
   // Uniform pressure on an r-z mesh: the face forces and the hoop term must cancel exactly.
   auto o = allBoundaries(BoundaryKind::Reflect);
