@@ -37,6 +37,10 @@ inline hydro::Solver makeBlock(const mesh::Grid& grid) {
   o.gravity[static_cast<std::size_t>(up)] = -9.81;
   o.body_friction = 0.2;
   o.load_reference_pressure = 101325.0;
+  o.inflow_barred = {1};   // as a run's: the outflow sides let no products back in
+  o.inflow_fill = 0;
+  o.inflow_fill_rho = 1.225;
+  o.inflow_fill_p = 101325.0;
   Vec3 det{0.0, 0.0, 0.0};
   det[static_cast<std::size_t>(up)] = -0.04;
   o.detonation.push_back({det, 0.0});

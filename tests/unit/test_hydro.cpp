@@ -183,10 +183,13 @@ TEST(Solver, FragmentsBelowTheCutAreFoldedIntoTheCellsOtherMaterials) {
 }
 
 TEST(Solver, OutflowBoundaryLetsAirInWhereTheFlowEntersButNoProducts) {
-  // A tube of products drifting towards its low end: the low side lets them out, the high side
-  // draws in what lies past it. Barred, that is ambient air at the products' pressure (on the air's
-  // isentrope through the reference state); not barred, the zero-gradient copy draws in products.
-  auto run = [](bool barred) {
+  // Products at 3 bar drifting along one axis of a tube (1D, or 2D along its second axis): the
+  // downstream side lets them out, the upstream side draws in what lies past it. Barred, that is
+  // ambient air at the products' pressure on the air's isentrope through (1.2 kg/m3, 1 bar); not
+  // barred, the zero-gradient copy draws in products. Both directions, so both sides' tests.
+  const double p = 3e5, rho_in = 1.2 * std::pow(3.0, 1.0 / 1.4), speed = 100.0, t_end = 2e-3;
+  struct Result { hydro::Totals before, after; double air_frac, air_rho, pressure; };
+  auto run = [&](bool barred, double dir, int dims) {
     auto o = allBoundaries(BoundaryKind::Transmit);
     if (barred) {
       o.inflow_barred = {1};
@@ -194,24 +197,36 @@ TEST(Solver, OutflowBoundaryLetsAirInWhereTheFlowEntersButNoProducts) {
       o.inflow_fill_rho = 1.2;
       o.inflow_fill_p = 1e5;
     }
-    hydro::Solver s(mesh::Grid(1, mesh::Geometry::Cartesian, {Axis::uniform(0.0, 1.0, 20), Axis{}, Axis{}}),
-                    {materials::idealGas("air", 1.4), materials::idealGas("products", 3.0)}, o);
-    s.paint(1, [](const Vec3&) { return true; }, 2.0, 1e5 / (2.0 * 2.0), {-100.0, 0.0, 0.0});   // p = 1e5 Pa
+    const int along = dims - 1;
+    const Axis tube = Axis::uniform(0.0, 1.0, 20);
+    const mesh::Grid grid = dims == 1 ? mesh::Grid(1, mesh::Geometry::Cartesian, {tube, Axis{}, Axis{}})
+                                      : mesh::Grid(2, mesh::Geometry::Cartesian, {Axis::uniform(0.0, 0.1, 2), tube, Axis{}});
+    hydro::Solver s(grid, {materials::idealGas("air", 1.4), materials::idealGas("products", 3.0)}, o);
+    Vec3 u{};
+    u[static_cast<std::size_t>(along)] = dir * speed;
+    s.paint(1, [](const Vec3&) { return true; }, 2.0, p / (2.0 * 2.0), u);
     const auto a = s.totals();
-    s.advanceTo(2e-3);   // the products move 0.2 m: four cells' worth of air has come in
-    return std::tuple{a, s.totals(), s.field(0).alpha[s.grid().index(19, 0, 0)], s.field(0).rho[s.grid().index(19, 0, 0)],
-                      s.pressure(s.grid().index(19, 0, 0))};
+    s.advanceTo(t_end);   // the products move 0.2 m: four cells' worth of air has come in
+    int idx[3] = {0, 0, 0};
+    idx[along] = dir < 0.0 ? 19 : 0;   // the upstream boundary cell
+    const std::size_t c = s.grid().index(idx[0], idx[1], idx[2]);
+    return Result{a, s.totals(), s.field(0).alpha[c], s.field(0).rho[c], s.pressure(c)};
   };
-  const auto [a0, b0, air0, rho0, p0] = run(false);
-  EXPECT_NEAR(b0.mass[1], a0.mass[1], 1e-12 * a0.mass[1]);   // as much came in as went out
-  EXPECT_EQ(b0.mass[0], 0.0);
-  const auto [a1, b1, air1, rho1, p1] = run(true);
-  EXPECT_NEAR(b1.mass[1], 0.8 * a1.mass[1], 0.02 * a1.mass[1]);   // a fifth of the tube has left
-  EXPECT_NEAR(b1.mass[0], 0.2 * 1.2, 0.02 * 0.2 * 1.2);          // and air at 1.2 kg/m3 took its place
-  EXPECT_NEAR(air1, 1.0, 1e-6);   // the contact, four cells away, leaves traces (THINC)
-  EXPECT_NEAR(rho1, 1.2, 0.01 * 1.2);
-  EXPECT_NEAR(p1, 1e5, 0.01 * 1e5);                              // the contact carries no pressure jump
-  EXPECT_NEAR(b1.total(), b1.accounted(a1.total()), 1e-12 * a1.total());   // what came in is booked
+  for (const int dims : {1, 2})
+    for (const double dir : {-1.0, 1.0}) {
+      SCOPED_TRACE(::testing::Message() << dims << "D, moving " << dir);
+      const auto copy = run(false, dir, dims);
+      EXPECT_NEAR(copy.after.mass[1], copy.before.mass[1], 1e-12 * copy.before.mass[1]);   // as much came in as went out
+      EXPECT_EQ(copy.after.mass[0], 0.0);
+      const auto r = run(true, dir, dims);
+      const double area = dims == 1 ? 1.0 : 0.1, air_in = rho_in * speed * t_end * area;
+      EXPECT_NEAR(r.after.mass[1], 0.8 * r.before.mass[1], 0.02 * r.before.mass[1]);   // a fifth of the tube has left
+      EXPECT_NEAR(r.after.mass[0], air_in, 0.02 * air_in);                             // and air on the isentrope took its place
+      EXPECT_NEAR(r.air_frac, 1.0, 1e-6);   // the contact, four cells away, leaves traces (THINC)
+      EXPECT_NEAR(r.air_rho, rho_in, 0.01 * rho_in);
+      EXPECT_NEAR(r.pressure, p, 0.01 * p);   // the boundary cell holds the products' pressure: no wave came in
+      EXPECT_NEAR(r.after.total(), r.after.accounted(r.before.total()), 1e-12 * r.before.total());
+    }
 }
 
 TEST(Solver, AxisymmetricGasAtRestStaysAtRest) {
