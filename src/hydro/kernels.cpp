@@ -607,8 +607,11 @@ void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
       P.fkek[kf] = sign * 0.5 * mflux_k[k] * uf2;
       eflow += P.fe[kf] + P.fkek[kf];
     }
-    if (f == g && S.lo_is_boundary) ledger.boundary_in += eflow;
-    if (f == g + n && S.hi_is_boundary) ledger.boundary_in -= eflow;
+    if ((f == g && S.lo_is_boundary) || (f == g + n && S.hi_is_boundary)) {
+      const double in = f == g ? 1.0 : -1.0;   // into the block
+      ledger.boundary_in += in * eflow;
+      for (int k = 0; k < M; ++k) ledger.boundary_mass[P.mat[k]] += in * P.fm[P.atFace(k, f)];
+    }
   }
 }
 

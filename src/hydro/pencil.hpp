@@ -86,6 +86,7 @@ struct PencilLedger {
   double target_work = 0.0;    // done by the flow on the moving body
   double gravity_work = 0.0;   // done by gravity on the flow
   double folded_mass[kMaxMaterials] = {};          // kg by the run's material index (Solver::scatterPencil)
+  double boundary_mass[kMaxMaterials] = {};        // kg by the run's material index, into the block across the end faces
   double impulse_total[3] = {};                    // N s: the load itself (normal stress and friction)
   double impulse_on_body[kMaxMaterials][3] = {};   // N s by material beside the face: the normal load
                                                    // (along d, against the reference pressure, which

@@ -345,6 +345,7 @@ Totals Solver::totalsOf(const std::vector<double>& columns) const {
   t.target_work = energy_.target_work;
   t.gravity_work = energy_.gravity_work;
   t.folded_mass.assign(energy_.folded_mass.begin(), energy_.folded_mass.begin() + static_cast<std::ptrdiff_t>(M));
+  t.boundary_mass.assign(energy_.boundary_mass.begin(), energy_.boundary_mass.begin() + static_cast<std::ptrdiff_t>(M));
   for (std::size_t at = 0; at + R <= columns.size(); at += R) {
     for (std::size_t q = 0; q < M; ++q) {
       t.mass[q] += columns[at + q];
@@ -619,12 +620,13 @@ void Solver::assemble(const Solver& mine, parallel::Exchange& ex) {
   // included, so that the whole's ghosts are what one process would hold
   const int i_lo = g.offset0() == 0 ? -g0 : 0, i_hi = g.offset0() + g.cells(0) == g.globalCells0() ? g.cells(0) + g0 : g.cells(0);
   const int j_lo = -g.ghost(1), j_hi = g.cells(1) + g.ghost(1), k_lo = -g.ghost(2), k_hi = g.cells(2) + g.ghost(2);
-  // [first column, last column + 1 (whole's indices), the ledger (3), cell updates] then each cell
+  // [first column, last column + 1 (whole's indices), the ledger (3), cell updates, folded and boundary mass by material] then each cell
   // in (i, j, k) order (packCell)
   std::vector<double> out{static_cast<double>(g.offset0() + i_lo), static_cast<double>(g.offset0() + i_hi), mine.energy_.boundary_in,
                           mine.energy_.target_work, mine.energy_.gravity_work, mine.stats_.cell_updates};
   const std::size_t nm = mats_.size();
   out.insert(out.end(), mine.energy_.folded_mass.begin(), mine.energy_.folded_mass.begin() + static_cast<std::ptrdiff_t>(nm));
+  out.insert(out.end(), mine.energy_.boundary_mass.begin(), mine.energy_.boundary_mass.begin() + static_cast<std::ptrdiff_t>(nm));
   for (int i = i_lo; i < i_hi; ++i)
     for (int j = j_lo; j < j_hi; ++j)
       for (int k = k_lo; k < k_hi; ++k) mine.packCell(g.index(i, j, k), out);
@@ -638,8 +640,11 @@ void Solver::assemble(const Solver& mine, parallel::Exchange& ex) {
     energy_.target_work += all.at(at + 3);
     energy_.gravity_work += all.at(at + 4);
     updates += all.at(at + 5);
-    for (std::size_t k = 0; k < nm; ++k) energy_.folded_mass[k] += all.at(at + 6 + k);
-    at += 6 + nm;
+    for (std::size_t k = 0; k < nm; ++k) {
+      energy_.folded_mass[k] += all.at(at + 6 + k);
+      energy_.boundary_mass[k] += all.at(at + 6 + nm + k);
+    }
+    at += 6 + 2 * nm;
     for (int i = first; i < last; ++i)
       for (int j = j_lo; j < j_hi; ++j)
         for (int k = k_lo; k < k_hi; ++k) at = unpackCell(grid_.index(i, j, k), all, at);
@@ -1180,7 +1185,10 @@ void Solver::sweep(int d, double dt) {
     energy_.boundary_in += l.boundary_in;
     energy_.target_work += l.target_work;
     energy_.gravity_work += l.gravity_work;
-    for (int k = 0; k < M; ++k) energy_.folded_mass[static_cast<std::size_t>(k)] += l.folded_mass[k];
+    for (int k = 0; k < M; ++k) {
+      energy_.folded_mass[static_cast<std::size_t>(k)] += l.folded_mass[k];
+      energy_.boundary_mass[static_cast<std::size_t>(k)] += l.boundary_mass[k];
+    }
     if (exchange_) continue;
     // the total from the stress itself: the by-material split is against the reference pressure,
     // which cancels over the plate's top and bottom but not over a rim or a symmetry-plane cut
@@ -1251,7 +1259,10 @@ void Solver::startAt(double t, const EnergyLedger& booked) {
   energy_.boundary_in += booked.boundary_in;
   energy_.target_work += booked.target_work;
   energy_.gravity_work += booked.gravity_work;
-  for (std::size_t k = 0; k < energy_.folded_mass.size(); ++k) energy_.folded_mass[k] += booked.folded_mass[k];
+  for (std::size_t k = 0; k < energy_.folded_mass.size(); ++k) {
+    energy_.folded_mass[k] += booked.folded_mass[k];
+    energy_.boundary_mass[k] += booked.boundary_mass[k];
+  }
 }
 
 Vec3 Solver::bodyLoad() const {

@@ -106,9 +106,15 @@ struct EnergyLedger {
   // kg by material (the run's order): the mass it gave to other materials by folding its fragments,
   // less what it took from theirs. The mass books close with it: held + folded = initial + inflow.
   std::array<double, kMaxMaterials> folded_mass{};
+  // kg by material: what crossed the block's boundary faces, inward positive (revision 9). The mass
+  // books of an open run close with it: held + folded = initial + boundary_mass.
+  std::array<double, kMaxMaterials> boundary_mass{};
   EnergyLedger scaled(double f) const {   // the books of a run mapped onto f times its volume
-    EnergyLedger l{f * boundary_in, f * target_work, f * gravity_work, {}};
-    for (std::size_t k = 0; k < folded_mass.size(); ++k) l.folded_mass[k] = f * folded_mass[k];
+    EnergyLedger l{f * boundary_in, f * target_work, f * gravity_work, {}, {}};
+    for (std::size_t k = 0; k < folded_mass.size(); ++k) {
+      l.folded_mass[k] = f * folded_mass[k];
+      l.boundary_mass[k] = f * boundary_mass[k];
+    }
     return l;
   }
 };
@@ -121,6 +127,7 @@ struct Totals {
   std::vector<double> internal_by_material, kinetic_by_material;   // J
   double boundary_in = 0.0, target_work = 0.0, gravity_work = 0.0;  // J, EnergyLedger so far
   std::vector<double> folded_mass;   // kg per material, EnergyLedger::folded_mass so far
+  std::vector<double> boundary_mass; // kg per material, EnergyLedger::boundary_mass so far (inward positive)
   double total() const { return internal_energy + kinetic_energy; }   // held in the cells
   // What the cells should hold given E0 = total() at the start: E0 + inflow - work + gravity.
   double accounted(double e0) const { return e0 + boundary_in - target_work + gravity_work; }

@@ -725,7 +725,13 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     sum["fragments"] = {{"fold_below", deck.fragment_fold},
                         {"folded_mass_kg", folded},
                         {"note", "each material's mass given to other materials by folding its fragments, less what it took; "
-                                 "totals.materials' mass_kg + folded_mass_kg = the initial mass less the net outflow"}};
+                                 "totals.materials' mass_kg + folded_mass_kg = the initial mass less the net outflow (outflow.mass_kg)"}};
+    // What left through the outflow sides, by material: books too (round-off under MPI, as above).
+    nlohmann::json left = nlohmann::json::object();
+    for (std::size_t k = 0; k < nmat; ++k) left[s.materials()[k].name] = -cs.symmetry * tot.boundary_mass[k];
+    sum["outflow"] = {{"mass_kg", left},
+                      {"note", "each material's net mass out through the domain's outflow sides (negative: net inflow); the products "
+                               "that left no longer load the target (docs/solver.md, Boundaries)"}};
   }
   sum["early_time"] = early_json;
   sum["charge"] = {{"radius_m", cs.charge.radius_m}, {"height_m", cs.charge.height_m}, {"z_top_m", cs.charge.z_top_m},

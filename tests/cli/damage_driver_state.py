@@ -11,13 +11,14 @@ source, folder = sys.argv[1], sys.argv[2]
 data = open(source, 'rb').read()
 head, payload = data[:32], data[44:]   # envelope: 32 bytes, u64 payload length, u32 CRC-32
 # The solver's part (Solver::writeCheckpoint): 80 bytes of scalars, then lists of one value per
-# cell (u64 count, doubles), then its energy ledger (3 doubles, then the folded mass of up to 8
-# materials: 11 doubles), the body's offset and the controller's last uncut step (1 double each).
+# cell (u64 count, doubles), then its energy ledger (3 doubles, then the folded and the boundary
+# mass of up to 8 materials: 19 doubles), the body's offset and the controller's last uncut step
+# (1 double each).
 cells = struct.unpack_from('<Q', payload, 8)[0]
 at = 80
 while struct.unpack_from('<Q', payload, at)[0] == cells:
     at += 8 + 8 * cells
-at += 8 * (11 + 2)
+at += 8 * (19 + 2)
 state = payload[at:]
 # The driver state starts with its scalars by name: a u64 length and a JSON object.
 n = struct.unpack_from('<Q', state, 0)[0]
