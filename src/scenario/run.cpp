@@ -730,8 +730,9 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     nlohmann::json left = nlohmann::json::object();
     for (std::size_t k = 0; k < nmat; ++k) left[s.materials()[k].name] = -cs.symmetry * tot.boundary_mass[k];
     sum["outflow"] = {{"mass_kg", left},
-                      {"note", "each material's net mass out through the domain's outflow sides (negative: net inflow); the products "
-                               "that left no longer load the target (docs/solver.md, Boundaries)"}};
+                      {"note", "each material's net mass out through the domain's outflow sides (and the early-time block's cut "
+                               "sides, which nothing reaches by construction); negative: net inflow. The products that left no longer "
+                               "load the target (docs/solver.md, Boundaries)"}};
   }
   sum["early_time"] = early_json;
   sum["charge"] = {{"radius_m", cs.charge.radius_m}, {"height_m", cs.charge.height_m}, {"z_top_m", cs.charge.z_top_m},

@@ -92,6 +92,19 @@ void splitMatchesWhole(int dims, int parts, int steps) {
   EXPECT_NEAR(inflow, whole.energyLedger().boundary_in, 1e-12 * whole.totals().total());
   EXPECT_NEAR(work, whole.energyLedger().target_work, 1e-12 * whole.totals().total());
   EXPECT_GT(std::abs(work), 0.0);
+  // ...and so are their mass books by material (what crossed the boundaries, what was folded)
+  const auto& wl = whole.energyLedger();
+  for (std::size_t k = 0; k < 3; ++k) {
+    double crossed = 0.0, folded = 0.0;
+    for (const auto& b : blocks) {
+      crossed += b->energyLedger().boundary_mass[k];
+      folded += b->energyLedger().folded_mass[k];
+    }
+    const double scale = whole.totals().mass[k];
+    EXPECT_NEAR(crossed, wl.boundary_mass[k], 1e-12 * scale) << k;
+    EXPECT_NEAR(folded, wl.folded_mass[k], 1e-12 * scale) << k;
+  }
+  EXPECT_NE(wl.boundary_mass[0], 0.0);   // some air has crossed the outflow sides: the sums above are not of zeros
   for (int r = 0; r < parts; ++r) {
     EXPECT_EQ(runs[static_cast<std::size_t>(r)].impulse, ref.impulse) << "slab " << r;
     EXPECT_EQ(runs[static_cast<std::size_t>(r)].by_parts, ref.by_parts) << "slab " << r;   // the splits too (10 mm cells, layers to 40 mm)
