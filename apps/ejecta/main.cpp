@@ -1,7 +1,9 @@
 // ejecta: buried-charge loading of vehicle underbodies. One program, several sub-commands.
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -64,8 +66,13 @@ int main(int argc, char** argv) {
   ejecta::cli::MpiSession mpi(argc, argv);
   ejecta::cli::session = &mpi;
   const int rc = runCommand(argc, argv);
-  // A rank that failed alone would leave the others waiting in a collective: stop them all.
-  if (rc != 0 && mpi.on && mpi.size > 1) MPI_Abort(MPI_COMM_WORLD, rc);
+  // A rank that failed alone would leave the others waiting in a collective: stop them all. Bad
+  // input fails every rank alike and rank 0 alone says so: the others give it time to say it
+  // before their abort kills it (under load a rank 1 that parsed first took rank 0 down unheard).
+  if (rc != 0 && mpi.on && mpi.size > 1) {
+    if (mpi.rank != 0) std::this_thread::sleep_for(std::chrono::seconds(2));
+    MPI_Abort(MPI_COMM_WORLD, rc);
+  }
   return rc;
 #else
   return runCommand(argc, argv);
