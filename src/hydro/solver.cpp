@@ -495,22 +495,23 @@ void Solver::fillGhosts(int d) {
       }
     }
     for (std::size_t c = 0; c < 3; ++c) copy(u_[c], kind == BoundaryKind::Reflect && static_cast<int>(c) == d ? -1.0 : 1.0);
-    if (kind == BoundaryKind::Transmit && !opt_.inflow_barred.empty()) barInflow(d, side);
+    if (kind == BoundaryKind::Transmit && !opt_.inflow_barred.empty()) barInflow(d, side, dst, src);
   }
 }
 
 // Where the flow enters through an outflow boundary, the barred materials' share of each ghost cell
-// becomes the fill gas at their pressure (SolverOptions::inflow_barred). The ghosts' cells and
-// sources are fillGhosts' lists for this side.
-void Solver::barInflow(int d, int side) {
+// becomes the fill gas at their pressure (SolverOptions::inflow_barred). `ghosts` and `sources`:
+// this side's ghost cells and the boundary cells they copied (fillGhosts).
+void Solver::barInflow(int d, int side, const std::vector<std::size_t>& ghosts, const std::vector<std::size_t>& sources) {
   const auto& gas = mats_[static_cast<std::size_t>(opt_.inflow_fill)];
   const double gamma = gas.gas.gamma, p_ref = opt_.inflow_fill_p, rho_ref = opt_.inflow_fill_rho;
   auto& A = fields_[static_cast<std::size_t>(opt_.inflow_fill)];
   const auto& un = u_[static_cast<std::size_t>(d)];
-  for (std::size_t i = 0; i < ghost_dst_.size(); ++i) {
-    const double u_in = side == 0 ? un[ghost_src_[i]] : -un[ghost_src_[i]];
+  for (std::size_t i = 0; i < ghosts.size(); ++i) {
+    // the boundary cell's velocity, not the face's: where the two differ in sign a sliver can enter
+    const double u_in = side == 0 ? un[sources[i]] : -un[sources[i]];
     if (!(u_in > 0.0)) continue;   // leaving or at rest: the copy stands
-    const std::size_t g = ghost_dst_[i];
+    const std::size_t g = ghosts[i];
     for (const int k : opt_.inflow_barred) {
       auto& F = fields_[static_cast<std::size_t>(k)];
       const double v = F.alpha[g];

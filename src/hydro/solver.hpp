@@ -245,7 +245,7 @@ class Solver {
 
  private:
   void fillGhosts(int d);
-  void barInflow(int d, int side);
+  void barInflow(int d, int side, const std::vector<std::size_t>& ghosts, const std::vector<std::size_t>& sources);
   void exchangeHalo(bool weights);   // axis 0's ghost layers from the neighbouring slabs: the state, or the interface weights
   void combineBodyLoad(const std::vector<double>& events);
   void packCell(std::size_t c, std::vector<double>& out) const;   // one cell's state, in the slabs' order
