@@ -520,9 +520,11 @@ void Solver::barInflow(int d, int side, const std::vector<std::size_t>& ghosts, 
       // the products have expanded to almost nothing
       const double p = std::max(materials::evaluateEos(mats_[static_cast<std::size_t>(k)], F.rho[g], F.e[g], F.h0[g]).pressure, 1e-3 * p_ref);
       const double rho = rho_ref * std::pow(p / p_ref, 1.0 / gamma), e = p / ((gamma - 1.0) * rho);
-      const double m_old = A.alpha[g] > 0.0 ? A.alpha[g] * A.rho[g] : 0.0, m_new = v * rho;
-      A.e[g] = ((m_old > 0.0 ? m_old * A.e[g] : 0.0) + m_new * e) / (m_old + m_new);
-      A.alpha[g] = (A.alpha[g] > 0.0 ? A.alpha[g] : 0.0) + v;
+      // mixed by mass with the gas the ghost holds already (none: its stale state is not read)
+      const bool held = A.alpha[g] > 0.0;
+      const double m_old = held ? A.alpha[g] * A.rho[g] : 0.0, m_new = v * rho;
+      A.e[g] = ((held ? m_old * A.e[g] : 0.0) + m_new * e) / (m_old + m_new);
+      A.alpha[g] = (held ? A.alpha[g] : 0.0) + v;
       A.rho[g] = (m_old + m_new) / A.alpha[g];
       F.clearCell(g);
     }
