@@ -128,6 +128,9 @@ struct Totals {
   double boundary_in = 0.0, target_work = 0.0, gravity_work = 0.0;  // J, EnergyLedger so far
   std::vector<double> folded_mass;   // kg per material, EnergyLedger::folded_mass so far
   std::vector<double> boundary_mass; // kg per material, EnergyLedger::boundary_mass so far (inward positive)
+  // Material k's mass traced back to the start: held, plus what it folded into others, less what
+  // came in across the boundaries; the mass books close when this stays at its initial value.
+  double massBooks(std::size_t k) const { return mass[k] + folded_mass[k] - boundary_mass[k]; }
   double total() const { return internal_energy + kinetic_energy; }   // held in the cells
   // What the cells should hold given E0 = total() at the start: E0 + inflow - work + gravity.
   double accounted(double e0) const { return e0 + boundary_in - target_work + gravity_work; }

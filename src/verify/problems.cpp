@@ -42,7 +42,7 @@ void setAll(SolverOptions& o, BoundaryKind k) {
 double drift(const hydro::Totals& a, const hydro::Totals& b) {
   double worst = 0.0;
   for (std::size_t k = 0; k < a.mass.size(); ++k) {
-    const double books = (b.mass[k] + b.folded_mass[k] - b.boundary_mass[k]) - (a.mass[k] + a.folded_mass[k] - a.boundary_mass[k]);
+    const double books = b.massBooks(k) - a.massBooks(k);
     const double scale = std::max({a.mass[k], b.mass[k], std::abs(b.boundary_mass[k] - a.boundary_mass[k])});
     if (scale > 0.0) worst = std::max(worst, std::abs(books) / scale);
   }
