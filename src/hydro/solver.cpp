@@ -368,11 +368,8 @@ Totals Solver::totals() const { return totalsOf(columnTotals()); }
 // material's own sound speed (a hot, rarefied film of air in the products; products expanded into
 // a void that the sand opened in tension: 1e5 to 1e7 m/s) does not govern stability: its volume
 // follows the cell's, and no wave runs inside it.
-// Reuss (SolverOptions::reuss_mixture): Wood's speed, the harmonic mean of the stiffnesses over
-// the mixture density, and no material's own speed.
-static double cellSignalSpeed2(const std::vector<materials::Material>& mats, const std::vector<MaterialFields>& fields, std::size_t c,
-                               bool reuss) {
-  double c2 = 0.0, kv = 0.0, compliance = 0.0, rho_mix = 0.0;
+static double cellSignalSpeed2(const std::vector<materials::Material>& mats, const std::vector<MaterialFields>& fields, std::size_t c) {
+  double c2 = 0.0, kv = 0.0, rho_mix = 0.0;
   for (const auto& f : fields) rho_mix += f.alpha[c] * f.rho[c];
   for (std::size_t q = 0; q < fields.size(); ++q) {
     const auto& f = fields[q];
@@ -383,10 +380,8 @@ static double cellSignalSpeed2(const std::vector<materials::Material>& mats, con
       kk += 4.0 / 3.0 * materials::shearModulus(mats[q], f.h0[c]);
     }
     kv += f.alpha[c] * kk;
-    compliance += f.alpha[c] / std::max(kk, 1e-30);
-    if (!reuss && f.alpha[c] * f.rho[c] >= 0.01 * rho_mix) c2 = std::max(c2, kk / f.rho[c]);
+    if (f.alpha[c] * f.rho[c] >= 0.01 * rho_mix) c2 = std::max(c2, kk / f.rho[c]);
   }
-  if (reuss) return compliance > 0.0 ? 1.0 / (compliance * rho_mix) : 0.0;
   return std::max(c2, kv / rho_mix);
 }
 
@@ -400,7 +395,7 @@ double Solver::stableTimeStep() const {
       for (int k = 0; k < n2; ++k) {
         const std::size_t c = grid_.index(i, j, k);
         if (isBody(c)) continue;
-        const double cs = std::sqrt(cellSignalSpeed2(mats_, fields_, c, opt_.reuss_mixture));
+        const double cs = std::sqrt(cellSignalSpeed2(mats_, fields_, c));
         const int idx[3] = {i, j, k};
         for (int d = 0; d < dims; ++d)
           dt = std::min(dt, grid_.width(d, idx[d]) / (std::abs(u_[static_cast<std::size_t>(d)][c]) + cs + 1e-30));
@@ -417,7 +412,7 @@ std::string Solver::describeLimitingCell() const {
       for (int k = 0; k < grid_.cells(2); ++k) {
         const std::size_t c = grid_.index(i, j, k);
         if (isBody(c)) continue;
-        const double cs = std::sqrt(cellSignalSpeed2(mats_, fields_, c, opt_.reuss_mixture));
+        const double cs = std::sqrt(cellSignalSpeed2(mats_, fields_, c));
         const int idx[3] = {i, j, k};
         for (int d = 0; d < grid_.dims(); ++d) {
           const double t = grid_.width(d, idx[d]) / (std::abs(u_[static_cast<std::size_t>(d)][c]) + cs + 1e-30);
@@ -969,14 +964,6 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
     P.rho[si] = rho;
     P.P[si] = p - snn;
     P.hoop[si] = p - (spherical ? 0.5 * (stt + s11) : stt);
-    if (opt_.reuss_mixture) {   // the harmonic mean over the materials that take part (above kAlphaMin)
-      double compliance = 0.0;
-      for (int k = 0; k < M; ++k) {
-        const std::size_t ki = P.at(k, i);
-        if (P.a[ki] > kAlphaMin) compliance += P.a[ki] / std::max(P.kk[ki], 1e-30);
-      }
-      if (compliance > 0.0) kv = 1.0 / compliance;
-    }
     P.K[si] = kv;
     P.pmin[si] = pmin;
     P.Z[si] = std::sqrt(std::max(rho * kv, 1e-30));

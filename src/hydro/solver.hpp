@@ -74,13 +74,6 @@ struct SolverOptions {
   // stay, and EnergyLedger::folded_mass books what each material gave). 0: never. At most
   // kAlphaMin, below which a material only rides along (docs/solver.md, Fragments).
   double fragment_fold = 1e-10;
-  // A mixed cell's stiffness in the face solver (impedance, predictor) and the time step. Voigt
-  // (the default): the volume average of the materials' bulk moduli, the time step also bound by
-  // each material's own sound speed where it holds at least 1% of the cell's mass. Reuss: the
-  // harmonic mean, the stiffness of materials at one pressure sharing a volume change by their
-  // compressibility as the mixed-cell closure shares it (Wood's mixture speed), and no
-  // material's own speed: an experiment, not validated (docs/solver.md, Speed).
-  bool reuss_mixture = false;
   // Materials an outflow (Transmit) boundary does not let back in. A zero-gradient ghost stands for
   // a medium that goes on past the boundary (the atmosphere, the ground); the products are a finite
   // mass the run made, and the copy would draw them in without end wherever the flow turns inward.

@@ -87,10 +87,6 @@ std::vector<Key> makeKeys() {
       flag("", "outflow_readmits_products", top<&Deck::outflow_readmits_products>,
            "where the flow turns inward at an outflow side, let the products that left come back (a zero-gradient copy, as before solver revision 9); "
            "default: what enters there is the ambient air (docs/solver.md, Boundaries)"),
-      text("", "mixture_stiffness", top<&Deck::mixture_stiffness>, {"voigt", "reuss"},
-           "a mixed cell's stiffness in the face solver and the time step: voigt (the volume average, and each material's own sound speed "
-           "where it holds 1% of the mass; validated) or reuss (the harmonic mean, Wood's mixture speed: about 4x fewer steps, impulses "
-           "moved by up to 3%, an experiment not validated; docs/solver.md, Speed)"),
 
       number("mesh", "cell_size_m", in<&Deck::mesh, &MeshSpec::cell_size_m>, "m", {1e-4, 0.1}, "uniform core cell"),
       number("mesh", "grading", in<&Deck::mesh, &MeshSpec::grading>, "-", {1.0, 1.5}, "growth per cell outside the core"),

@@ -234,38 +234,6 @@ TEST(Solver, OutflowBoundaryLetsAirInWhereTheFlowEntersButNoProducts) {
     }
 }
 
-// A cell half air, half sand: the Voigt step is bound by the sand's own longitudinal speed (it holds
-// nearly all the mass); the Reuss step (SolverOptions::reuss_mixture) by Wood's speed of the two at
-// one pressure, 1 / sqrt(rho_mix sum alpha_k / K_k), far slower. A pure cell is the same in both.
-TEST(Solver, ReussMixtureTimeStepIsWoodsSpeedAndAPureCellIsUnchanged) {
-  const auto sand = materials::sand(materials::SandInputs::fromWetDensity(1370.0, 0.07));
-  const double rho_a = 1.225, e_a = 101325.0 / (0.4 * rho_a), rho_s = 1370.0;
-  const auto a = materials::evaluateEos(materials::air(), rho_a, e_a, 0.0);
-  const auto q = materials::evaluateEos(sand, rho_s, 0.0, 0.0);
-  const double K_a = a.bulk, K_s = q.bulk + 4.0 / 3.0 * materials::shearModulus(sand, 0.0);
-  const double dx = 0.1, rho_mix = 0.5 * (rho_a + rho_s);
-  for (const bool mixed : {true, false}) {
-    for (const bool reuss : {false, true}) {
-      auto o = allBoundaries(BoundaryKind::Reflect);
-      o.reuss_mixture = reuss;
-      hydro::Solver s(mesh::Grid(1, mesh::Geometry::Cartesian, {Axis::uniform(0.0, 1.0, 10), Axis{}, Axis{}}), {materials::air(), sand}, o);
-      s.paint(0, [](const Vec3&) { return true; }, rho_a, e_a);
-      if (mixed) s.paint(1, [](const Vec3& x) { return std::fmod(x[0] * 10.0, 1.0) < 0.5; }, rho_s, 0.0, {}, 2);
-      double c;
-      if (!mixed) {
-        c = std::sqrt(K_a / rho_a);
-      } else if (reuss) {
-        c = 1.0 / std::sqrt(rho_mix * (0.5 / K_a + 0.5 / K_s));
-      } else {
-        c = std::max(std::sqrt(K_s / rho_s), std::sqrt(0.5 * (K_a + K_s) / rho_mix));
-      }
-      EXPECT_NEAR(s.stableTimeStep(), o.cfl * dx / c, 1e-12 * o.cfl * dx / c) << "mixed " << mixed << ", reuss " << reuss;
-    }
-  }
-  // Wood's speed in this cell is a gas's stiffness over the sand's mass: tens of m/s, not the sand's
-  EXPECT_LT(1.0 / std::sqrt(rho_mix * (0.5 / K_a + 0.5 / K_s)), 0.1 * std::sqrt(K_s / rho_s));
-}
-
 TEST(Solver, AxisymmetricGasAtRestStaysAtRest) {
   // Uniform pressure on an r-z mesh: the face forces and the hoop term must cancel exactly.
   auto o = allBoundaries(BoundaryKind::Reflect);
