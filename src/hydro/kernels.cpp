@@ -42,12 +42,18 @@ void Pencil::resize(int cells, int materials) {
 }
 
 double thincOutflow(double a, double a_lo, double a_hi, double b, bool out_high, double beta) {
+  return thincOutflow(a, a_lo, a_hi, b, out_high, ThincProfile(beta));
+}
+
+double thincOutflow(double a, double a_lo, double a_hi, double b, bool out_high, const ThincProfile& th) {
   const double hi_cap = std::min(a, b), lo_cap = std::max(0.0, a - (1.0 - b));
   // No interface to sharpen where the neighbours do not bracket the cell: the donor mean.
   if (a < 1e-6 || a > 1.0 - 1e-6 || (a_hi - a) * (a - a_lo) <= 0.0) return std::clamp(a * b, lo_cap, hi_cap);
+  const double beta = th.beta;
   const double gamma = a_hi > a_lo ? 1.0 : -1.0;
   const double q = 2.0 * beta * gamma * (a - 0.5);   // gamma = +-1, so 1/gamma = gamma
-  const double t = (std::exp(beta) - std::exp(q)) / (std::exp(q) - std::exp(-beta));
+  const double eq = std::exp(q);
+  const double t = (th.exp_beta - eq) / (eq - th.exp_minus_beta);
   const double xc = std::log(t) / (2.0 * beta);
   double f;
   if (out_high)
@@ -412,6 +418,7 @@ void lagrangeUpdate(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
   const std::size_t d = static_cast<std::size_t>(S.d);
   const auto& un = P.u[d];
   const double dt = S.dt, grav = S.gravity;
+  double gravity_work = ledger.gravity_work;   // summed in a register, in the same order
   for (int i = g - 1; i <= g + n; ++i) {
     const std::size_t si = static_cast<std::size_t>(i), fr = si + 1;
     const bool interior = i >= g && i < g + n;
@@ -419,8 +426,10 @@ void lagrangeUpdate(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     const double Vl = V + P.dvol[fr] - P.dvol[si];
     P.vlag[si] = Vl;
     double m = 0.0, ie = 0.0;
+    int present = 0;
     for (int k = 0; k < M; ++k) {
       const std::size_t ki = P.at(k, i);
+      present += P.a[ki] > kAlphaMin ? 1 : 0;
       P.mk[ki] = P.a[ki] * P.r[ki] * V;
       P.iek[ki] = P.mk[ki] * P.e[ki];
       m += P.mk[ki];
@@ -437,7 +446,7 @@ void lagrangeUpdate(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     const double mn_g = mn + dt * m * grav;
     const double w_grav = dt * grav * 0.5 * (mn + mn_g);
     E += w_grav;
-    if (interior && !P.solid[si]) ledger.gravity_work += w_grav;   // the body's cells are not the flow's
+    if (interior && !P.solid[si]) gravity_work += w_grav;   // the body's cells are not the flow's
     P.mom[d][si] = mn_g;
     // transverse momentum from the shear tractions
     for (int tt = 0; tt < 2; ++tt) {
@@ -475,6 +484,14 @@ void lagrangeUpdate(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     for (std::size_t q = 0; q < 3; ++q) ke1 += 0.5 * P.mom[q][si] * P.mom[q][si] * inv_m;
     P.ke[si] = ke1;
     const double die = E - ke1 - ie;
+    if (present <= 1) {   // closeMixedCell's own answer for a cell of one material, without the copies
+      for (int k = 0; k < M; ++k) {
+        const std::size_t ki = P.at(k, i);
+        P.vk[ki] = P.a[ki] * Vl;
+        if (P.a[ki] > kAlphaMin) P.iek[ki] += die;
+      }
+      continue;
+    }
     MixedCell c;
     c.M = M;
     for (int k = 0; k < M; ++k) {
@@ -492,6 +509,7 @@ void lagrangeUpdate(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
       P.iek[ki] = c.ie[k];
     }
   }
+  ledger.gravity_work = gravity_work;
   // Work at the pencil's end faces (normal stress and shear tractions): energy in or out of the block.
   const auto shearWork = [&](int f) {
     const std::size_t sf = static_cast<std::size_t>(f);
@@ -514,6 +532,7 @@ void lagrangeUpdate(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
 void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
   const int g = kGhost, n = P.n, M = P.M;
   const bool second = S.second_order;
+  const ThincProfile thinc(S.thinc_beta);
   for (int f = g; f <= g + n; ++f) {
     const std::size_t sf = static_cast<std::size_t>(f);
     const double dvf = (P.solid[sf - 1] | P.solid[sf]) ? 0.0 : (S.grid_disp ? P.dvol[sf] - P.area[sf] * S.grid_disp[sf] : P.dvol[sf]);
@@ -538,7 +557,7 @@ void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
       const std::size_t kD = P.at(k, D);
       const double al = P.vk[kD] / vD;
       const double wl = P.wl[kD];
-      raw[k] = M == 1 ? bfrac : wl * thincOutflow(al, P.a[kD - 1], P.a[kD + 1], bfrac, out_high, S.thinc_beta) + (1.0 - wl) * al * bfrac;
+      raw[k] = M == 1 ? bfrac : wl * thincOutflow(al, P.a[kD - 1], P.a[kD + 1], bfrac, out_high, thinc) + (1.0 - wl) * al * bfrac;
       raw_sum += raw[k];
     }
     const double target = std::abs(dvf);

@@ -942,8 +942,7 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
       }
       P.wl[ki] = several ? wlic_[km * total_cells + c] : 1.0;
       P.e[ki] = F.e[c];
-      const auto st = materials::evaluateEos(mat, F.rho[c], F.e[c], F.h0[c]);
-      P.h[ki] = materials::updatedHistory(mat, F.rho[c], F.h0[c]);
+      const auto st = materials::evaluateEosAndHistory(mat, F.rho[c], F.e[c], F.h0[c], P.h[ki]);
       P.pk[ki] = st.pressure;
       P.kk[ki] = st.bulk;
       rho += al * F.rho[c];

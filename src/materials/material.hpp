@@ -153,6 +153,19 @@ inline double updatedHistory(const Material& m, double rho, double h0) noexcept 
   return x > h0 ? x : h0;
 }
 
+// evaluateEos and updatedHistory together: the sand's natural strain ln(rho/rho0) taken once
+// (the same numbers to the bit; the gather asks for both in every cell the material is in).
+inline EosState evaluateEosAndHistory(const Material& m, double rho, double e, double h0, double& history) noexcept {
+  if (m.eos != EosKind::Sand) {
+    history = h0;
+    return evaluateEos(m, rho, e, h0);
+  }
+  const double x = std::log(rho / m.sand->referenceDensity());
+  history = x > h0 ? x : h0;
+  const auto r = m.sand->evaluate(x, h0, e);
+  return {r.pressure, r.bulk_modulus};
+}
+
 // Shear modulus (Pa) and yield strength (Pa) at pressure p, for materials with strength.
 inline double shearModulus(const Material& m, double h0) noexcept {
   return m.strength.kind == StrengthKind::VonMises ? m.strength.shear_modulus : (m.sand ? m.sand->shearModulus(h0) : 0.0);
