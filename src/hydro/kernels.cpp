@@ -533,15 +533,16 @@ void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
   const int g = kGhost, n = P.n, M = P.M;
   const bool second = S.second_order;
   const ThincProfile thinc(S.thinc_beta);
+  // every flux through faces g .. g+n starts at zero (one fill per array, not eleven stores a face)
+  for (int k = 0; k < M; ++k) {
+    const auto lo = static_cast<std::ptrdiff_t>(P.atFace(k, g)), hi = static_cast<std::ptrdiff_t>(P.atFace(k, g + n)) + 1;
+    for (auto* v : {&P.fv, &P.fm, &P.fe, &P.fh, &P.fkek}) std::fill(v->begin() + lo, v->begin() + hi, 0.0);
+    for (auto& fs : P.fs) std::fill(fs.begin() + lo, fs.begin() + hi, 0.0);
+  }
+  for (auto& fm : P.fmom) std::fill(fm.begin() + g, fm.begin() + g + n + 1, 0.0);
   for (int f = g; f <= g + n; ++f) {
     const std::size_t sf = static_cast<std::size_t>(f);
     const double dvf = (P.solid[sf - 1] | P.solid[sf]) ? 0.0 : (S.grid_disp ? P.dvol[sf] - P.area[sf] * S.grid_disp[sf] : P.dvol[sf]);
-    for (int k = 0; k < M; ++k) {
-      const std::size_t kf = P.atFace(k, f);
-      P.fv[kf] = P.fm[kf] = P.fe[kf] = P.fh[kf] = P.fkek[kf] = 0.0;
-      for (auto& fs : P.fs) fs[kf] = 0.0;
-    }
-    for (auto& fm : P.fmom) fm[sf] = 0.0;
     if (dvf == 0.0) continue;
     const bool out_high = dvf > 0.0;
     const int D = out_high ? f - 1 : f;
@@ -569,7 +570,8 @@ void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     double dvk[kMaxMaterials], excess = 0.0, room = 0.0;
     for (int k = 0; k < M; ++k) {
       const std::size_t kD = P.at(k, D);
-      dvk[k] = raw_sum > 0.0 ? raw[k] / raw_sum * target : (held > 0.0 ? P.vk[kD] / held * target : target / M);
+      // (a material with no profile here takes nothing: the quotient's +0 without the division)
+      dvk[k] = raw_sum > 0.0 ? (raw[k] == 0.0 ? 0.0 : raw[k] / raw_sum * target) : (held > 0.0 ? P.vk[kD] / held * target : target / M);
       if (dvk[k] > P.vk[kD]) {
         excess += dvk[k] - P.vk[kD];
         dvk[k] = P.vk[kD];

@@ -99,6 +99,14 @@ struct PencilLedger {
   // (`kBodyEventSize`), when `events` is set; `key` is the pencil's place in the whole's order.
   std::vector<double>* events = nullptr;
   double key = 0.0;
+  // Every book back to zero; `events` and `key` stay (a ledger is reused from sweep to sweep).
+  void clearBooks() {
+    auto* const ev = events;
+    const double k = key;
+    *this = PencilLedger{};
+    events = ev;
+    key = k;
+  }
 };
 inline constexpr int bodyEventSize(int M) { return 3 + (1 + kNearWallDepths) * M; }
 

@@ -925,13 +925,15 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
       const std::size_t ki = P.at(k, i);
       const double al = F.alpha[c];
       P.a[ki] = al;
-      P.r[ki] = F.rho[c];   // read even where the material is absent: a sliver arriving there takes it (scatterPencil)
       if (!(al > 0.0)) {
         // An absent material's energy, history and stress are zero (every path that empties a cell
         // clears them, MaterialFields::clearCell), so they are not read: in a sweep across the
         // contiguous axis each read is a cache line of its own, for each material in each cell
         // (the invariant is tested: Solver.PencilsCarryingOnlyTheirMaterialsGiveTheSameResultToTheBit).
-        // Its interface weight multiplies a zero volume in remapFluxes, whatever it is.
+        // Its interface weight multiplies a zero volume in remapFluxes, whatever it is. Nor is its
+        // density read: only a sliver arriving here takes it (scatterPencil reads it then), and its
+        // mass a r V is zero either way.
+        P.r[ki] = 0.0;
         P.wl[ki] = 0.0;
         P.e[ki] = 0.0;
         P.h[ki] = 0.0;
@@ -940,6 +942,7 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
         for (std::size_t q = 0; q < 6; ++q) P.s[q][ki] = 0.0;
         continue;
       }
+      P.r[ki] = F.rho[c];
       P.wl[ki] = several ? wlic_[km * total_cells + c] : 1.0;
       P.e[ki] = F.e[c];
       const auto st = materials::evaluateEosAndHistory(mat, F.rho[c], F.e[c], F.h0[c], P.h[ki]);
@@ -1011,12 +1014,15 @@ std::size_t Solver::scatterPencil(const Pencil& P, int d, std::size_t base, Penc
       mk_new[k] = P.mk[ki] + P.fm[kf] - P.fm[kf + 1];
       ie_new[k] = P.iek[ki] + P.fe[kf] - P.fe[kf + 1];
       // each material's kinetic energy after the Lagrange phase plus what its fluxes carried
-      ke_in[k] = (P.mass[si] > 0.0 ? P.ke[si] * P.mk[ki] / P.mass[si] : 0.0) + P.fkek[kf] - P.fkek[kf + 1];
+      // (a material with no mass here had none of it: the quotient's +0 without the division)
+      ke_in[k] = (P.mass[si] > 0.0 && P.mk[ki] != 0.0 ? P.ke[si] * P.mk[ki] / P.mass[si] : 0.0) + P.fkek[kf] - P.fkek[kf + 1];
       if (mk_new[k] <= 0.0) {   // emptied: what energy it had left goes to the others as heat
         lost += ie_new[k] + ke_in[k];
         mk_new[k] = vk_new[k] = ie_new[k] = ke_in[k] = 0.0;
       } else if (vk_new[k] <= 0.0) {
-        vk_new[k] = mk_new[k] / std::max(P.r[ki], 1e-30);   // a sliver: keep its mass
+        // a sliver: keep its mass, at the density the material had here (kept where it is absent)
+        const double r_here = P.a[ki] > 0.0 ? P.r[ki] : fields_[static_cast<std::size_t>(P.mat[k])].rho[c];
+        vk_new[k] = mk_new[k] / std::max(r_here, 1e-30);
       }
       m += mk_new[k];
       vs += vk_new[k];
@@ -1137,7 +1143,11 @@ void Solver::sweep(int d, double dt) {
   }
   // Each pencil books its own energy and impulse; they are summed in pencil order afterwards,
   // so the result does not depend on the number of threads.
-  std::vector<PencilLedger> ledgers(static_cast<std::size_t>(n1) * static_cast<std::size_t>(n2));
+  // The ledgers (about 1 KB a pencil) are kept from sweep to sweep: allocated anew, every sweep of
+  // a 3D mesh paid the kernel's page faults for megabytes. Each pencil clears its own before use.
+  auto& ledgers = ledgers_;
+  ledgers.resize(static_cast<std::size_t>(n1) * static_cast<std::size_t>(n2));
+  for (auto& l : ledgers) l.events = nullptr;
   // a slab logs the body's load by pencil, keyed by the pencil's place in the whole domain's order
   std::vector<std::vector<double>> events(exchange_ ? ledgers.size() : 0);
   if (exchange_) {
@@ -1176,6 +1186,7 @@ void Solver::sweep(int d, double dt) {
         idx[S.t2] = b;
         const std::size_t base = grid_.index(idx[0], idx[1], idx[2]);
         auto& ledger = ledgers[static_cast<std::size_t>(a) * static_cast<std::size_t>(n2) + static_cast<std::size_t>(b)];
+        ledger.clearBooks();
         selectMaterials(P, d, base);
         gatherPencil(P, d, base, a, b, S);
         computeSlopes(P, S);

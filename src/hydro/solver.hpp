@@ -282,6 +282,7 @@ class Solver {
   Vec3 body_impulse_{};
   std::vector<Vec3> body_impulse_mat_;
   std::array<std::vector<Vec3>, kNearWallDepths> body_impulse_near_;
+  std::vector<PencilLedger> ledgers_;   // sweep()'s scratch: one per pencil
   std::vector<double> wlic_;             // per material and cell: share of the interface facing axis d
   std::vector<double> light_distance_;   // m, to the nearest detonation point (+inf without one)
   std::vector<double> light_delay_;      // s, that point's own lighting time
