@@ -26,6 +26,7 @@ struct ValidationCase {
 
 struct ValidationPlan {
   ValidationLevel level = ValidationLevel::Quick;
+  double vplate_mm = 0.0;              // the 3D V-plates' cell size; 0: the level's (quick 60 mm, full 10 mm)
   std::vector<std::string> studies;    // in report order
   std::vector<ValidationCase> cases;   // each run once, even when two studies use it
 };
@@ -33,7 +34,9 @@ struct ValidationPlan {
 // Studies: mesh, moisture, field, share, sensitivity, dres. `only` (empty: all) picks some; an
 // unknown name is an InputError naming `only`.
 const std::vector<std::string>& validationStudies();
-ValidationPlan validationPlan(ValidationLevel level, const std::vector<std::string>& only = {});
+// `vplate_mm` (0: the level's) runs the 3D V-plates at another cell size, [5, 100] mm, else an
+// InputError naming `vplate-cell-size`.
+ValidationPlan validationPlan(ValidationLevel level, const std::vector<std::string>& only = {}, double vplate_mm = 0.0);
 
 // What the report keeps of one run: the result and its histories thinned to at most `max_rows`
 // rows (the last row always kept), the profiles whole. Also what `--reuse` reads back.

@@ -50,6 +50,30 @@ TEST(ValidationPlan, OnlyPicksStudiesAndTheirCasesAndRejectsUnknownNames) {
   }
 }
 
+TEST(ValidationPlan, VPlateCellSizeMovesOnlyTheVPlatesAndIsChecked) {
+  const auto plan = scenario::validationPlan(ValidationLevel::Full, {"vplates"}, 20.0);
+  ASSERT_EQ(plan.cases.size(), 4u);   // the 2D flat plate beside three 3D quarters, all at 20 mm
+  for (const auto& c : plan.cases) {
+    EXPECT_DOUBLE_EQ(c.cell_mm, 20.0) << c.id;
+    const auto deck = scenario::loadDeck((std::filesystem::path(build_info::decks_dir) / (c.deck + ".toml")).string(), c.sets);
+    EXPECT_DOUBLE_EQ(deck.mesh.cell_size_m, 0.020) << c.id;
+    EXPECT_DOUBLE_EQ(deck.end_time_s, 0.010) << c.id;   // the full level's 10 ms
+  }
+  // the other studies keep the level's sizes
+  for (const auto& c : scenario::validationPlan(ValidationLevel::Full, {"mesh", "vplates"}, 20.0).cases)
+    if (c.deck == "mesh-study") {
+      EXPECT_NE(c.cell_mm, 20.0) << c.id;
+    }
+  for (const double bad : {3.0, 150.0, -20.0, std::nan("")}) {
+    try {
+      scenario::validationPlan(ValidationLevel::Full, {"vplates"}, bad);
+      FAIL() << bad << " mm was accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.field(), "vplate-cell-size");
+    }
+  }
+}
+
 // A made-up result for a case: impulse I split 10/20/70% air/products/soil (by the cell beside the
 // plate; 10/30/60% within each depth), a straight history; each kind's energy scales with I.
 json outcome(const scenario::ValidationCase& c, double impulse, bool near_recorded = true) {
