@@ -82,11 +82,13 @@ def field(p):
 
 
 def split_bars(ax, p, **ticks):
-    """Each case's impulse by material: soil, products stacked on it, air (net of ambient) apart."""
+    """Each case's impulse by material: soil, products stacked on it, and beside them air (net of
+    ambient, so it can be negative), in a bar of its own rather than over the soil's."""
     x = range(len(p["labels"]))
-    ax.bar(x, p["soil"], color="tab:brown", label="soil")
-    ax.bar(x, p["products"], bottom=p["soil"], color="tab:red", label="products")
-    ax.bar(x, p["air"], color="tab:blue", label="air (net of ambient)")
+    w = 0.38
+    ax.bar([i - w / 2 for i in x], p["soil"], width=w, color="tab:brown", label="soil")
+    ax.bar([i - w / 2 for i in x], p["products"], width=w, bottom=p["soil"], color="tab:red", label="products (on the soil)")
+    ax.bar([i + w / 2 for i in x], p["air"], width=w, color="tab:blue", label="air (net of ambient)")
     ax.axhline(0.0, color="k", lw=0.6)
     ax.set_xticks(list(x))
     ax.set_xticklabels(p["labels"], fontsize=8, **ticks)

@@ -1074,7 +1074,8 @@ std::size_t Solver::scatterPencil(const Pencil& P, int d, std::size_t base, Penc
         if (P.a[ki] > 0.0) F.clearCell(c);   // absent before too: clear already (gatherPencil)
         continue;
       }
-      const double al = vk_new[k] == vs ? 1.0 : vk_new[k] / vs;   // a cell of one material: x / x without the division
+      // a cell of one material: x / x without the division (a non-finite or zero sum still gives NaN below)
+      const double al = vk_new[k] == vs && vs > 0.0 && vs < std::numeric_limits<double>::infinity() ? 1.0 : vk_new[k] / vs;
       F.alpha[c] = al;
       F.rho[c] = mk_new[k] / (al * V);
       F.e[c] = ie_new[k] / mk_new[k];

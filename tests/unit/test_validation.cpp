@@ -2,6 +2,7 @@
 // studies' numbers from given results) and the report renderers (base64, HTML escaping, tables).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <set>
 
@@ -64,6 +65,14 @@ TEST(ValidationPlan, VPlateCellSizeMovesOnlyTheVPlatesAndIsChecked) {
     if (c.deck == "mesh-study") {
       EXPECT_NE(c.cell_mm, 20.0) << c.id;
     }
+  // at the quick level the V-plates stop at 5 ms: the 2D flat plate beside them is their own run,
+  // not the sensitivity study's 10 ms baseline, even at the same cell size
+  const auto quick = scenario::validationPlan(ValidationLevel::Quick, {}, 20.0);
+  for (const auto& c : quick.cases)
+    if (c.id == "vplate-flat-2d-20mm") {
+      EXPECT_DOUBLE_EQ(scenario::loadDeck((std::filesystem::path(build_info::decks_dir) / (c.deck + ".toml")).string(), c.sets).end_time_s, 0.005);
+    }
+  EXPECT_EQ(std::count_if(quick.cases.begin(), quick.cases.end(), [](const auto& c) { return c.id == "vplate-flat-2d-20mm"; }), 1);
   for (const double bad : {3.0, 150.0, -20.0, std::nan("")}) {
     try {
       scenario::validationPlan(ValidationLevel::Full, {"vplates"}, bad);
