@@ -13,10 +13,7 @@
 #include "core/error.hpp"
 #include "hydro/pencil.hpp"
 #include "parallel/exchange.hpp"
-
-#ifdef _OPENMP
-#include <omp.h>
-#endif
+#include "parallel/loops.hpp"
 
 namespace ejecta::hydro {
 
@@ -386,20 +383,19 @@ static double cellSignalSpeed2(const std::vector<materials::Material>& mats, con
 }
 
 double Solver::stableTimeStep() const {
-  double dt = std::numeric_limits<double>::infinity();
-  const int n0 = grid_.cells(0), n1 = grid_.cells(1), n2 = grid_.cells(2), dims = grid_.dims();
-  [[maybe_unused]] const bool team = useThreads();
-#pragma omp parallel for collapse(2) reduction(min : dt) schedule(static) if (team)
-  for (int i = 0; i < n0; ++i)
-    for (int j = 0; j < n1; ++j)
-      for (int k = 0; k < n2; ++k) {
-        const std::size_t c = grid_.index(i, j, k);
-        if (isBody(c)) continue;
-        const double cs = std::sqrt(cellSignalSpeed2(mats_, fields_, c));
-        const int idx[3] = {i, j, k};
-        for (int d = 0; d < dims; ++d)
-          dt = std::min(dt, grid_.width(d, idx[d]) / (std::abs(u_[static_cast<std::size_t>(d)][c]) + cs + 1e-30));
-      }
+  const int dims = grid_.dims();
+  double dt = parallel::minOverCells(grid_.cells(0), grid_.cells(1), grid_.cells(2), useThreads(), step_balance_, [this, dims](int i, int j, int k) {
+    const std::size_t c = grid_.index(i, j, k);
+    double least = std::numeric_limits<double>::infinity();
+    if (isBody(c)) return least;
+    const double cs = std::sqrt(cellSignalSpeed2(mats_, fields_, c));
+    const int idx[3] = {i, j, k};
+    for (int d = 0; d < dims; ++d) {
+      const double t = grid_.width(d, idx[d]) / (std::abs(u_[static_cast<std::size_t>(d)][c]) + cs + 1e-30);
+      least = t < least ? t : least;
+    }
+    return least;
+  });
   if (exchange_) dt = exchange_->minimum(dt);
   return opt_.cfl * dt;
 }
@@ -747,11 +743,7 @@ void Solver::interfaceWeights(int d) {
   const int dims = grid_.dims();
   const int n0 = grid_.cells(0), n1 = grid_.cells(1), n2 = grid_.cells(2);
   const std::size_t total = grid_.totalCells();
-  [[maybe_unused]] const bool team = useThreads();
-#pragma omp parallel for collapse(2) schedule(static) if (team)
-  for (int i = 0; i < n0; ++i)
-    for (int j = 0; j < n1; ++j)
-      for (int k = 0; k < n2; ++k) {
+  parallel::forEachCell(n0, n1, n2, useThreads(), weights_balance_, [&](int i, int j, int k) {
         const std::size_t c = grid_.index(i, j, k);
         const int idx[3] = {i, j, k};
         for (int m = 0; m < M; ++m) {
@@ -773,7 +765,7 @@ void Solver::interfaceWeights(int d) {
           }
           w = nsum > 0.0 ? nd / nsum : 1.0;
         }
-      }
+      });
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -785,18 +777,13 @@ void Solver::updateBurn(double dt) {
     if (mats_[k].eos != EosKind::Jwl) continue;
     const auto& j = mats_[k].jwl;
     auto& f = fields_[k];
-    const int n0 = grid_.cells(0), n1 = grid_.cells(1), n2 = grid_.cells(2);
-    [[maybe_unused]] const bool team = useThreads();
-#pragma omp parallel for schedule(static) if (team)
-    for (int i = 0; i < n0; ++i)
-      for (int jj = 0; jj < n1; ++jj)
-        for (int kk = 0; kk < n2; ++kk) {
-          const std::size_t c = grid_.index(i, jj, kk);
-          if (f.alpha[c] <= 0.0 || f.h0[c] >= 1.0) continue;
-          const double lit = light_delay_[c] + light_distance_[c] / j.d_cj;
-          const double frac = std::clamp((t - lit) * j.d_cj / (j.burn_width * burn_length_[c]), 0.0, 1.0);
-          f.h0[c] = std::max(f.h0[c], frac);
-        }
+    parallel::forEachCell(grid_.cells(0), grid_.cells(1), grid_.cells(2), useThreads(), burn_balance_, [&](int i, int jj, int kk) {
+      const std::size_t c = grid_.index(i, jj, kk);
+      if (f.alpha[c] <= 0.0 || f.h0[c] >= 1.0) return;
+      const double lit = light_delay_[c] + light_distance_[c] / j.d_cj;
+      const double frac = std::clamp((t - lit) * j.d_cj / (j.burn_width * burn_length_[c]), 0.0, 1.0);
+      f.h0[c] = std::max(f.h0[c], frac);
+    });
   }
 }
 
@@ -809,16 +796,11 @@ void Solver::updateStress(double dt) {
   for (int d = 0; d < grid_.dims(); ++d) fillGhosts(d);
   const int dims = grid_.dims();
   const bool axi = grid_.axisymmetric(), sph = grid_.spherical();
-  const int n0 = grid_.cells(0), n1 = grid_.cells(1), n2 = grid_.cells(2);
-  [[maybe_unused]] const bool team = useThreads();
-#pragma omp parallel for collapse(2) schedule(static) if (team)
-  for (int i = 0; i < n0; ++i)
-    for (int j = 0; j < n1; ++j)
-      for (int k = 0; k < n2; ++k) {
+  parallel::forEachCell(grid_.cells(0), grid_.cells(1), grid_.cells(2), useThreads(), stress_balance_, [&](int i, int j, int k) {
         const std::size_t c = grid_.index(i, j, k);
         bool any = false;
         for (std::size_t q = 0; q < mats_.size(); ++q) any = any || (mats_[q].hasStrength() && fields_[q].alpha[c] > kAlphaMin);
-        if (!any) continue;
+        if (!any) return;
         double L[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};   // L[a][b] = du_a / dx_b
         const int idx[3] = {i, j, k};
         for (int b = 0; b < dims; ++b) {
@@ -864,7 +846,7 @@ void Solver::updateStress(double dt) {
           for (int a = 0; a < 3; ++a)
             for (int b = a; b < 3; ++b) f.s[static_cast<std::size_t>(stressIndex(a, b))][c] = scale * Sn[a][b];
         }
-      }
+      });
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -1161,25 +1143,15 @@ void Solver::sweep(int d, double dt) {
         l.key = static_cast<double>(a + off1) * n_t2 + static_cast<double>(b + off2);
       }
   }
-  std::size_t bad_cell = std::numeric_limits<std::size_t>::max();
-  [[maybe_unused]] const bool team = useThreads();
   // Neighbouring pencils share cache lines only along the contiguous transverse axis: walk that
   // one innermost, so that a line fetched for one pencil serves the next ones (in 3D the sweep along
   // axis 1 otherwise jumped a whole plane between pencils and used one cell of each line). Each
   // pencil writes only its own cells and books into its own ledger, so the order changes no number.
   const bool a_inner = grid_.stride(S.t1) < grid_.stride(S.t2);
   const int n_outer = a_inner ? n2 : n1, n_inner = a_inner ? n1 : n2;
-
-#pragma omp parallel if (team)
-  {
-    // scratch kept by each thread from sweep to sweep: allocating it every sweep cost a 1D run
-    // more time in the allocator (growing and trimming the heap) than in the kernels
-    thread_local Pencil P;
-    P.resize(n, M);
-    std::size_t my_bad = std::numeric_limits<std::size_t>::max();
-#pragma omp for collapse(2) schedule(static)
-    for (int outer = 0; outer < n_outer; ++outer)
-      for (int inner = 0; inner < n_inner; ++inner) {
+  const std::size_t bad_cell = parallel::forEachPencil<Pencil>(
+      n_outer, n_inner, useThreads(), sweep_balance_[static_cast<std::size_t>(d)], [&](Pencil& P) { P.resize(n, M); },
+      [&](Pencil& P, int outer, int inner) {
         const int a = a_inner ? inner : outer, b = a_inner ? outer : inner;
         int idx[3];
         idx[d] = -g;
@@ -1195,11 +1167,8 @@ void Solver::sweep(int d, double dt) {
         lagrangeUpdate(P, S, ledger);
         remapFluxes(P, S, ledger);
         if (moved) moveCellVolumes(P, S);
-        my_bad = std::min(my_bad, scatterPencil(P, d, base, ledger));
-      }
-#pragma omp critical
-    bad_cell = std::min(bad_cell, my_bad);
-  }
+        return scatterPencil(P, d, base, ledger);
+      });
   if (moved) {
     grid_.moveFaces(d, std::move(*moved));
     body_offset_ = offset_after;

@@ -27,6 +27,7 @@
 #include "materials/material.hpp"
 #include "hydro/pencil.hpp"
 #include "mesh/grid.hpp"
+#include "parallel/loops.hpp"
 
 namespace ejecta::parallel {
 class Exchange;   // parallel/exchange.hpp
@@ -283,6 +284,10 @@ class Solver {
   std::vector<Vec3> body_impulse_mat_;
   std::array<std::vector<Vec3>, kNearWallDepths> body_impulse_near_;
   std::vector<PencilLedger> ledgers_;   // sweep()'s scratch: one per pencil
+  // each threaded loop's cost by block last time: the threads' split (parallel/loops.hpp)
+  std::array<parallel::LoadBalance, 3> sweep_balance_;   // by the sweep's axis
+  mutable parallel::LoadBalance step_balance_;            // stableTimeStep
+  parallel::LoadBalance stress_balance_, weights_balance_, burn_balance_;
   std::vector<double> wlic_;             // per material and cell: share of the interface facing axis d
   std::vector<double> light_distance_;   // m, to the nearest detonation point (+inf without one)
   std::vector<double> light_delay_;      // s, that point's own lighting time

@@ -88,7 +88,10 @@ inline EosState evaluateEos(const Material& m, double rho, double e, double h0) 
     case EosKind::Jwl: {
       const auto& j = m.jwl;
       const double v = j.rho0 / rho;
-      const double e1 = j.a * std::exp(-j.r1 * v), e2 = j.b * std::exp(-j.r2 * v);
+      // exp(-x) is +0 in double beyond x = 745.2: taken without the call, whose underflow path
+      // (products expanded 250-fold and more, a large part of a late run) is slow; the same +0
+      const auto decay = [](double x) { return x > 750.0 ? 0.0 : std::exp(-x); };
+      const double e1 = j.a * decay(j.r1 * v), e2 = j.b * decay(j.r2 * v);
       const double w = j.omega;
       const double p = e1 * (1.0 - w / (j.r1 * v)) + e2 * (1.0 - w / (j.r2 * v)) + w * rho * e;
       // dp/drho at constant e, via dV/drho = -V/rho.

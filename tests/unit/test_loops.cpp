@@ -1,0 +1,121 @@
+// The loop layer (parallel/loops.hpp): the threads' split by measured cost is contiguous, covers
+// every iteration once, and changes no result: a run on 1, 2 or 3 threads gives every field and the
+// body's load of every step bit for bit.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <vector>
+
+#include "../common/decomposition_case.hpp"
+#include "parallel/loops.hpp"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace {
+using namespace ejecta;
+
+TEST(LoadBalance, SplitsIntoContiguousRunsOfAboutEqualCost) {
+  parallel::LoadBalance b;
+  b.plan(10, 2);   // nothing measured yet: by count
+  EXPECT_EQ(b.begin, (std::vector<std::size_t>{0, 5, 10}));
+  // the work is at the start (a charge in one corner): the first thread takes fewer blocks
+  b.cost = {8, 8, 8, 1, 1, 1, 1, 1, 1, 1};
+  b.plan(10, 2);
+  EXPECT_EQ(b.begin, (std::vector<std::size_t>{0, 2, 10}));   // 16 against 15
+  b.plan(10, 3);
+  ASSERT_EQ(b.begin.size(), 4u);
+  EXPECT_EQ(b.begin.front(), 0u);
+  EXPECT_EQ(b.begin.back(), 10u);
+  for (std::size_t t = 0; t + 1 < b.begin.size(); ++t) EXPECT_LE(b.begin[t], b.begin[t + 1]);
+  EXPECT_EQ(b.begin[1], 1u);   // a block goes to the third of 31 its middle falls in: 8 | 8 + 8 | 7
+  EXPECT_EQ(b.begin[2], 3u);
+  b.plan(4, 2);   // another number of blocks: by count again
+  EXPECT_EQ(b.cost.size(), 4u);
+  EXPECT_EQ(b.begin, (std::vector<std::size_t>{0, 2, 4}));
+  b.plan(3, 5);   // more threads than blocks: some take none
+  EXPECT_EQ(b.begin.front(), 0u);
+  EXPECT_EQ(b.begin.back(), 3u);
+}
+
+TEST(LoadBalance, EveryPencilAndCellOnceOnAnyNumberOfThreads) {
+#ifdef _OPENMP
+  const int before = omp_get_max_threads();
+#endif
+  for (int threads : {1, 2, 3}) {
+#ifdef _OPENMP
+    omp_set_num_threads(threads);
+#endif
+    parallel::LoadBalance pencils, cells;
+    for (int pass = 0; pass < 3; ++pass) {   // the later passes split by the measured cost
+      std::vector<std::atomic<int>> seen(7 * 5);
+      const auto least = parallel::forEachPencil<std::vector<double>>(
+          7, 5, true, pencils, [](std::vector<double>& s) { s.assign(3, 0.0); },
+          [&](std::vector<double>& s, int outer, int inner) {
+            EXPECT_EQ(s.size(), 3u);   // prepared on this thread
+            seen[static_cast<std::size_t>(outer * 5 + inner)]++;
+            volatile double spin = 0.0;   // uneven work: the low outer indices cost more
+            for (int w = 0; w < (outer < 2 ? 20000 : 100); ++w) spin = spin + 1.0;
+            return static_cast<std::size_t>(100 + outer * 5 + inner);
+          });
+      EXPECT_EQ(least, 100u);
+      for (const auto& n : seen) EXPECT_EQ(n.load(), 1) << threads << " threads";
+      std::vector<std::atomic<int>> cell(4 * 3 * 2);
+      const double m = parallel::minOverCells(4, 3, 2, true, cells, [&](int i, int j, int k) {
+        cell[static_cast<std::size_t>((i * 3 + j) * 2 + k)]++;
+        return 1.0 + i + 10.0 * j + 100.0 * k;
+      });
+      EXPECT_EQ(m, 1.0);
+      for (const auto& n : cell) EXPECT_EQ(n.load(), 1);
+    }
+  }
+#ifdef _OPENMP
+  omp_set_num_threads(before);
+#endif
+}
+
+// A charge in wet sand under a plate that moves the mesh (2D), and a 3D quarter under a V-plate:
+// every field and the load of every step, on 2 and 3 threads against 1.
+void sameOnAnyThreads(int dims, int steps) {
+#ifndef _OPENMP
+  GTEST_SKIP() << "built without OpenMP";
+#else
+  const int before = omp_get_max_threads();
+  omp_set_num_threads(1);
+  auto one = testcase::makeBlock(testcase::wholeGrid(dims));
+  const auto ref = testcase::advance(one, steps);
+  for (int threads : {2, 3}) {
+    omp_set_num_threads(threads);
+    auto many = testcase::makeBlock(testcase::wholeGrid(dims));
+    const auto run = testcase::advance(many, steps);
+    EXPECT_EQ(run.impulse, ref.impulse) << threads << " threads";
+    EXPECT_EQ(run.by_parts, ref.by_parts) << threads << " threads";
+    const std::size_t cells = one.grid().totalCells();
+    for (int m = 0; m < one.materialCount(); ++m) {
+      const auto& A = one.field(m);
+      const auto& B = many.field(m);
+      for (std::size_t c = 0; c < cells; ++c) {
+        ASSERT_EQ(A.alpha[c], B.alpha[c]) << threads << " threads, material " << m << ", cell " << c;
+        ASSERT_EQ(A.rho[c], B.rho[c]);
+        ASSERT_EQ(A.e[c], B.e[c]);
+        ASSERT_EQ(A.h0[c], B.h0[c]);
+        if (!A.s[0].empty()) {
+          for (std::size_t q = 0; q < 6; ++q) ASSERT_EQ(A.s[q][c], B.s[q][c]);
+        }
+      }
+    }
+    for (int d = 0; d < 3; ++d)
+      for (std::size_t c = 0; c < cells; ++c) ASSERT_EQ(one.velocity(d)[c], many.velocity(d)[c]);
+    EXPECT_EQ(one.energyLedger().boundary_in, many.energyLedger().boundary_in);
+    EXPECT_EQ(one.energyLedger().target_work, many.energyLedger().target_work);
+    EXPECT_EQ(one.stableTimeStep(), many.stableTimeStep());
+  }
+  omp_set_num_threads(before);
+#endif
+}
+
+TEST(LoadBalance, ThreadsChangeNoBitIn2D) { sameOnAnyThreads(2, 120); }
+TEST(LoadBalance, ThreadsChangeNoBitIn3D) { sameOnAnyThreads(3, 40); }
+
+}  // namespace
