@@ -744,28 +744,28 @@ void Solver::interfaceWeights(int d) {
   const int n0 = grid_.cells(0), n1 = grid_.cells(1), n2 = grid_.cells(2);
   const std::size_t total = grid_.totalCells();
   parallel::forEachCell(n0, n1, n2, useThreads(), weights_balance_, [&](int i, int j, int k) {
-        const std::size_t c = grid_.index(i, j, k);
-        const int idx[3] = {i, j, k};
-        for (int m = 0; m < M; ++m) {
-          const auto& al = fields_[static_cast<std::size_t>(m)].alpha;
-          double& w = wlic_[static_cast<std::size_t>(m) * total + c];
-          if (al[c] <= 0.0 || al[c] >= 1.0) {
-            w = 1.0;
-            continue;
-          }
-          double nd = 0.0, nsum = 0.0;
-          for (int b = 0; b < dims; ++b) {
-            int lo[3] = {i, j, k}, hi[3] = {i, j, k};
-            lo[b] -= 1;
-            hi[b] += 1;
-            const double g = std::abs((al[grid_.index(hi[0], hi[1], hi[2])] - al[grid_.index(lo[0], lo[1], lo[2])]) /
-                                      (grid_.centre(b, idx[b] + 1) - grid_.centre(b, idx[b] - 1)));
-            nsum += g;
-            if (b == d) nd = g;
-          }
-          w = nsum > 0.0 ? nd / nsum : 1.0;
-        }
-      });
+    const std::size_t c = grid_.index(i, j, k);
+    const int idx[3] = {i, j, k};
+    for (int m = 0; m < M; ++m) {
+      const auto& al = fields_[static_cast<std::size_t>(m)].alpha;
+      double& w = wlic_[static_cast<std::size_t>(m) * total + c];
+      if (al[c] <= 0.0 || al[c] >= 1.0) {
+        w = 1.0;
+        continue;
+      }
+      double nd = 0.0, nsum = 0.0;
+      for (int b = 0; b < dims; ++b) {
+        int lo[3] = {i, j, k}, hi[3] = {i, j, k};
+        lo[b] -= 1;
+        hi[b] += 1;
+        const double g = std::abs((al[grid_.index(hi[0], hi[1], hi[2])] - al[grid_.index(lo[0], lo[1], lo[2])]) /
+                                  (grid_.centre(b, idx[b] + 1) - grid_.centre(b, idx[b] - 1)));
+        nsum += g;
+        if (b == d) nd = g;
+      }
+      w = nsum > 0.0 ? nd / nsum : 1.0;
+    }
+  });
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -797,56 +797,56 @@ void Solver::updateStress(double dt) {
   const int dims = grid_.dims();
   const bool axi = grid_.axisymmetric(), sph = grid_.spherical();
   parallel::forEachCell(grid_.cells(0), grid_.cells(1), grid_.cells(2), useThreads(), stress_balance_, [&](int i, int j, int k) {
-        const std::size_t c = grid_.index(i, j, k);
-        bool any = false;
-        for (std::size_t q = 0; q < mats_.size(); ++q) any = any || (mats_[q].hasStrength() && fields_[q].alpha[c] > kAlphaMin);
-        if (!any) return;
-        double L[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};   // L[a][b] = du_a / dx_b
-        const int idx[3] = {i, j, k};
-        for (int b = 0; b < dims; ++b) {
-          int lo[3] = {i, j, k}, hi[3] = {i, j, k};
-          lo[b] -= 1;
-          hi[b] += 1;
-          const std::size_t cl = grid_.index(lo[0], lo[1], lo[2]), ch = grid_.index(hi[0], hi[1], hi[2]);
-          const double dx = grid_.centre(b, idx[b] + 1) - grid_.centre(b, idx[b] - 1);
-          for (std::size_t a = 0; a < 3; ++a) L[a][b] = (u_[a][ch] - u_[a][cl]) / dx;
+    const std::size_t c = grid_.index(i, j, k);
+    bool any = false;
+    for (std::size_t q = 0; q < mats_.size(); ++q) any = any || (mats_[q].hasStrength() && fields_[q].alpha[c] > kAlphaMin);
+    if (!any) return;
+    double L[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};   // L[a][b] = du_a / dx_b
+    const int idx[3] = {i, j, k};
+    for (int b = 0; b < dims; ++b) {
+      int lo[3] = {i, j, k}, hi[3] = {i, j, k};
+      lo[b] -= 1;
+      hi[b] += 1;
+      const std::size_t cl = grid_.index(lo[0], lo[1], lo[2]), ch = grid_.index(hi[0], hi[1], hi[2]);
+      const double dx = grid_.centre(b, idx[b] + 1) - grid_.centre(b, idx[b] - 1);
+      for (std::size_t a = 0; a < 3; ++a) L[a][b] = (u_[a][ch] - u_[a][cl]) / dx;
+    }
+    if (axi) L[2][2] = u_[0][c] / grid_.centre(0, i);   // hoop strain rate u_r / r
+    if (sph) L[1][1] = L[2][2] = u_[0][c] / grid_.centre(0, i);   // both hoop directions
+    double D[3][3], W[3][3];
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) {
+        D[a][b] = 0.5 * (L[a][b] + L[b][a]);
+        W[a][b] = 0.5 * (L[a][b] - L[b][a]);
+      }
+    const double trace = (D[0][0] + D[1][1] + D[2][2]) / 3.0;
+    for (std::size_t q = 0; q < mats_.size(); ++q) {
+      const auto& m = mats_[q];
+      auto& f = fields_[q];
+      if (!m.hasStrength() || f.alpha[c] <= kAlphaMin) continue;
+      const double p = materials::evaluateEos(m, f.rho[c], f.e[c], f.h0[c]).pressure;
+      const double G = materials::shearModulus(m, f.h0[c]), Y = materials::yieldStrength(m, p);
+      double S[3][3];
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) S[a][b] = f.s[static_cast<std::size_t>(stressIndex(a, b))][c];
+      double Sn[3][3];
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) {
+          double rot = 0.0;
+          for (int e = 0; e < 3; ++e) rot += W[a][e] * S[e][b] - S[a][e] * W[e][b];
+          Sn[a][b] = S[a][b] + dt * (2.0 * G * (D[a][b] - (a == b ? trace : 0.0)) + rot);
         }
-        if (axi) L[2][2] = u_[0][c] / grid_.centre(0, i);   // hoop strain rate u_r / r
-        if (sph) L[1][1] = L[2][2] = u_[0][c] / grid_.centre(0, i);   // both hoop directions
-        double D[3][3], W[3][3];
-        for (int a = 0; a < 3; ++a)
-          for (int b = 0; b < 3; ++b) {
-            D[a][b] = 0.5 * (L[a][b] + L[b][a]);
-            W[a][b] = 0.5 * (L[a][b] - L[b][a]);
-          }
-        const double trace = (D[0][0] + D[1][1] + D[2][2]) / 3.0;
-        for (std::size_t q = 0; q < mats_.size(); ++q) {
-          const auto& m = mats_[q];
-          auto& f = fields_[q];
-          if (!m.hasStrength() || f.alpha[c] <= kAlphaMin) continue;
-          const double p = materials::evaluateEos(m, f.rho[c], f.e[c], f.h0[c]).pressure;
-          const double G = materials::shearModulus(m, f.h0[c]), Y = materials::yieldStrength(m, p);
-          double S[3][3];
-          for (int a = 0; a < 3; ++a)
-            for (int b = 0; b < 3; ++b) S[a][b] = f.s[static_cast<std::size_t>(stressIndex(a, b))][c];
-          double Sn[3][3];
-          for (int a = 0; a < 3; ++a)
-            for (int b = 0; b < 3; ++b) {
-              double rot = 0.0;
-              for (int e = 0; e < 3; ++e) rot += W[a][e] * S[e][b] - S[a][e] * W[e][b];
-              Sn[a][b] = S[a][b] + dt * (2.0 * G * (D[a][b] - (a == b ? trace : 0.0)) + rot);
-            }
-          const double tr = (Sn[0][0] + Sn[1][1] + Sn[2][2]) / 3.0;   // keep it deviatoric
-          for (int a = 0; a < 3; ++a) Sn[a][a] -= tr;
-          double j2 = 0.0;
-          for (int a = 0; a < 3; ++a)
-            for (int b = 0; b < 3; ++b) j2 += 0.5 * Sn[a][b] * Sn[a][b];
-          const double seq = std::sqrt(3.0 * j2);
-          const double scale = seq > Y ? (Y > 0.0 ? Y / seq : 0.0) : 1.0;
-          for (int a = 0; a < 3; ++a)
-            for (int b = a; b < 3; ++b) f.s[static_cast<std::size_t>(stressIndex(a, b))][c] = scale * Sn[a][b];
-        }
-      });
+      const double tr = (Sn[0][0] + Sn[1][1] + Sn[2][2]) / 3.0;   // keep it deviatoric
+      for (int a = 0; a < 3; ++a) Sn[a][a] -= tr;
+      double j2 = 0.0;
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) j2 += 0.5 * Sn[a][b] * Sn[a][b];
+      const double seq = std::sqrt(3.0 * j2);
+      const double scale = seq > Y ? (Y > 0.0 ? Y / seq : 0.0) : 1.0;
+      for (int a = 0; a < 3; ++a)
+        for (int b = a; b < 3; ++b) f.s[static_cast<std::size_t>(stressIndex(a, b))][c] = scale * Sn[a][b];
+    }
+  });
 }
 
 // ------------------------------------------------------------------------------------------------

@@ -210,7 +210,7 @@ class Solver {
   void readCheckpoint(std::istream& is);   // throws InputError if it does not fit this set-up
 
   // --- time stepping --------------------------------------------------------------------------
-  double stableTimeStep() const;         // CFL step from the current state
+  double stableTimeStep() const;         // CFL step from the current state (not from two threads at once: it keeps its loop's costs)
   // The one time-step controller (advanceTo and the run's loops use it): the CFL step, grown by at
   // most 20% from the last step that was not cut short (a step cut to land on `stop`, an output
   // time, does not restart the growth), the first one initial_dt_fraction of it; at most max_dt
@@ -286,7 +286,7 @@ class Solver {
   std::vector<PencilLedger> ledgers_;   // sweep()'s scratch: one per pencil
   // each threaded loop's cost by block last time: the threads' split (parallel/loops.hpp)
   std::array<parallel::LoadBalance, 3> sweep_balance_;   // by the sweep's axis
-  mutable parallel::LoadBalance step_balance_;            // stableTimeStep
+  mutable parallel::LoadBalance step_balance_;            // stableTimeStep (which writes it: one caller at a time)
   parallel::LoadBalance stress_balance_, weights_balance_, burn_balance_;
   std::vector<double> wlic_;             // per material and cell: share of the interface facing axis d
   std::vector<double> light_distance_;   // m, to the nearest detonation point (+inf without one)

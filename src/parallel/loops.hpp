@@ -2,7 +2,7 @@
 // The solver's loop layer: every loop over the mesh's cells or a sweep's pencils that threads run
 // goes through one of these, and the OpenMP pragmas live here only, so that a GPU back-end (or
 // another threading model) replaces this file rather than the solver. The bodies are the kernels;
-// they see an index, never a thread.
+// they see an index (and a pencil's scratch), never a thread.
 //
 // Scheduling: the work of a cell or a pencil differs by an order of magnitude across a blast deck
 // (three materials and mixed cells near the charge, pure air far from it; the sand's strength only
@@ -27,16 +27,20 @@
 
 namespace ejecta::parallel {
 
-// What each block of one loop's iterations cost the last time it ran (seconds), and the threads'
-// split that follows from it.
+// What each block of one loop's iterations cost the last times it ran (seconds), and the threads'
+// split that follows from it. Not for two loops at once: a loop writes its costs.
 struct LoadBalance {
-  std::vector<double> cost;         // s, by block
+  std::vector<double> cost;         // s, by block: the mean of the last time and the cost before
   std::vector<std::size_t> begin;   // thread t takes blocks [begin[t], begin[t + 1])
+  bool measured = false;            // `cost` holds times (else placeholders)
 
   // Splits `blocks` blocks among `threads` into contiguous runs of about equal cost (by count the
   // first time, or when the number of blocks changed).
   void plan(std::size_t blocks, int threads) {
-    if (cost.size() != blocks) cost.assign(blocks, 1.0);
+    if (cost.size() != blocks) {
+      cost.assign(blocks, 1.0);
+      measured = false;
+    }
     double total = 0.0;
     for (double c : cost) total += c;
     begin.assign(static_cast<std::size_t>(threads) + 1, blocks);
@@ -51,10 +55,14 @@ struct LoadBalance {
   }
 };
 
-// The core of the layer: enter() once on each thread, then block(b) -> T for each of the thread's
+// A block's new time, folded into what it cost before: one block slowed by the machine (another
+// process on the core) moves the next split by half as much.
+inline double blendedCost(const LoadBalance& balance, double before, double now) { return balance.measured ? 0.5 * (before + now) : now; }
+
+// The core of the layer: prepare() once on each thread, then block(b) -> T for each of the thread's
 // blocks, each timed into `balance`; returns the least of block()'s results (`none` for none).
-template <class T, class Enter, class Block>
-T balancedMin(std::size_t blocks, bool team, LoadBalance& balance, T none, Enter&& enter, Block&& block) {
+template <class T, class Prepare, class Block>
+T balancedMin(std::size_t blocks, bool team, LoadBalance& balance, T none, Prepare&& prepare, Block&& block) {
   T least = none;
 #pragma omp parallel if (team)
   {
@@ -64,8 +72,8 @@ T balancedMin(std::size_t blocks, bool team, LoadBalance& balance, T none, Enter
     threads = omp_get_num_threads();
 #endif
 #pragma omp single
-    balance.plan(blocks, threads);
-    enter();
+    balance.plan(blocks, threads);   // the barrier at its end: every thread sees the plan
+    prepare();
     T mine = none;
     const std::size_t to = balance.begin[static_cast<std::size_t>(t) + 1];
     if (threads == 1) {   // nothing to balance: no clock
@@ -74,12 +82,14 @@ T balancedMin(std::size_t blocks, bool team, LoadBalance& balance, T none, Enter
       for (std::size_t b = balance.begin[static_cast<std::size_t>(t)]; b < to; ++b) {
         const auto started = std::chrono::steady_clock::now();
         mine = std::min(mine, block(b));
-        balance.cost[b] = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        balance.cost[b] = blendedCost(balance, balance.cost[b], took);
       }
     }
 #pragma omp critical
     least = std::min(least, mine);
   }
+  if (balance.begin.size() > 2) balance.measured = true;   // timed on two threads or more
   return least;
 }
 
@@ -123,13 +133,22 @@ void forEachCell(int n0, int n1, int n2, bool team, LoadBalance& balance, F&& f)
 // a Scratch that each thread keeps from call to call (allocating it every sweep cost a 1D run more
 // time in the allocator than in the kernels), prepared by prepare(scratch) once a call. Returns the
 // least of f's results (SIZE_MAX for none).
+// The calling thread's own Scratch, constructed on that thread when it first asks (a thread_local
+// declared where only the caller passes would be neither constructed nor destroyed on the team's
+// other threads).
+template <class Scratch>
+Scratch& threadScratch() {
+  thread_local Scratch scratch;
+  return scratch;
+}
+
 template <class Scratch, class Prepare, class F>
 std::size_t forEachPencil(int n_outer, int n_inner, bool team, LoadBalance& balance, Prepare&& prepare, F&& f) {
-  thread_local Scratch scratch;   // each thread's own
   const std::size_t inner = static_cast<std::size_t>(n_inner);
   return balancedMin(
-      static_cast<std::size_t>(n_outer) * inner, team, balance, std::numeric_limits<std::size_t>::max(), [&] { prepare(scratch); },
-      [&](std::size_t at) { return f(scratch, static_cast<int>(at / inner), static_cast<int>(at % inner)); });
+      static_cast<std::size_t>(n_outer) * inner, team, balance, std::numeric_limits<std::size_t>::max(),
+      [&] { prepare(threadScratch<Scratch>()); },
+      [&](std::size_t at) { return f(threadScratch<Scratch>(), static_cast<int>(at / inner), static_cast<int>(at % inner)); });
 }
 
 }  // namespace ejecta::parallel
