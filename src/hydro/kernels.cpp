@@ -47,8 +47,12 @@ double thincOutflow(double a, double a_lo, double a_hi, double b, bool out_high,
 
 double thincOutflow(double a, double a_lo, double a_hi, double b, bool out_high, const ThincProfile& th) {
   const double hi_cap = std::min(a, b), lo_cap = std::max(0.0, a - (1.0 - b));
+  // Within the caps, the upper one winning: at a = 1 the lower cap 1 - (1 - b) can round one ulp
+  // above b, where std::clamp's precondition (lo <= hi) fails; this is what libstdc++'s clamp
+  // computes, without the precondition.
+  const auto capped = [&](double x) { return std::min(std::max(x, lo_cap), hi_cap); };
   // No interface to sharpen where the neighbours do not bracket the cell: the donor mean.
-  if (a < 1e-6 || a > 1.0 - 1e-6 || (a_hi - a) * (a - a_lo) <= 0.0) return std::clamp(a * b, lo_cap, hi_cap);
+  if (a < 1e-6 || a > 1.0 - 1e-6 || (a_hi - a) * (a - a_lo) <= 0.0) return capped(a * b);
   const double beta = th.beta;
   const double gamma = a_hi > a_lo ? 1.0 : -1.0;
   const double q = 2.0 * beta * gamma * (a - 0.5);   // gamma = +-1, so 1/gamma = gamma
@@ -60,7 +64,7 @@ double thincOutflow(double a, double a_lo, double a_hi, double b, bool out_high,
     f = 0.5 * b + gamma / (2.0 * beta) * (lnCosh(beta * (1.0 - xc)) - lnCosh(beta * (1.0 - b - xc)));
   else
     f = 0.5 * b + gamma / (2.0 * beta) * (lnCosh(beta * (b - xc)) - lnCosh(beta * xc));
-  return std::clamp(f, lo_cap, hi_cap);
+  return capped(f);
 }
 
 void shareHeat(int M, const double* mass, const double* loss, double heat, const double* held, double* add) {

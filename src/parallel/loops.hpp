@@ -128,11 +128,6 @@ void forEachCell(int n0, int n1, int n2, bool team, LoadBalance& balance, F&& f)
   });
 }
 
-// A sweep's pencils, `n_outer` x `n_inner` of them (the inner index the one whose neighbours share
-// cache lines; a pencil is its own block): f(scratch, outer, inner) -> std::size_t, with `scratch`
-// a Scratch that each thread keeps from call to call (allocating it every sweep cost a 1D run more
-// time in the allocator than in the kernels), prepared by prepare(scratch) once a call. Returns the
-// least of f's results (SIZE_MAX for none).
 // The calling thread's own Scratch, constructed on that thread when it first asks (a thread_local
 // declared where only the caller passes would be neither constructed nor destroyed on the team's
 // other threads).
@@ -142,6 +137,11 @@ Scratch& threadScratch() {
   return scratch;
 }
 
+// A sweep's pencils, `n_outer` x `n_inner` of them (the inner index the one whose neighbours share
+// cache lines; a pencil is its own block): f(scratch, outer, inner) -> std::size_t, with `scratch`
+// a Scratch that each thread keeps from call to call (allocating it every sweep cost a 1D run more
+// time in the allocator than in the kernels), prepared by prepare(scratch) once a call. Returns the
+// least of f's results (SIZE_MAX for none).
 template <class Scratch, class Prepare, class F>
 std::size_t forEachPencil(int n_outer, int n_inner, bool team, LoadBalance& balance, Prepare&& prepare, F&& f) {
   const std::size_t inner = static_cast<std::size_t>(n_inner);

@@ -3,6 +3,7 @@
 // Riemann solution, where mixed-cell heat goes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 
@@ -352,6 +353,58 @@ TEST(Kernels, ShareHeatSumsExactlyAndCapsASliver) {
   hydro::shareHeat(3, mass, loss, -1.0, held, add);
   EXPECT_NEAR(add[0] + add[1] + add[2], -1.0, 1e-14);
   EXPECT_EQ(add[1], 0.0);
+}
+
+// THINC's outflow against the profile integrated by quadrature: H(x) = (1 + g tanh(beta (x - xc))) / 2
+// over the donor (x in [0, 1]), xc such that H averages to the fraction a, integrated over the part
+// that leaves (the last b of the donor towards the face, or the first b).
+double thincByQuadrature(double a, double b, bool increasing, bool out_high, double beta) {
+  const double g = increasing ? 1.0 : -1.0;
+  auto integral = [&](double xc, double from, double to) {
+    const int n = 4000;   // Simpson: error about h^4 beta^4, under 1e-12
+    const double h = (to - from) / n;
+    double sum = 0.0;
+    for (int i = 0; i <= n; ++i) {
+      const double x = from + i * h, w = (i == 0 || i == n) ? 1.0 : (i % 2 == 1 ? 4.0 : 2.0);
+      sum += w * 0.5 * (1.0 + g * std::tanh(beta * (x - xc)));
+    }
+    return sum * h / 3.0;
+  };
+  double lo = -20.0, hi = 20.0;   // the mean falls (g = 1) or rises (g = -1) with xc
+  for (int it = 0; it < 64; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    const bool too_much = integral(mid, 0.0, 1.0) > a;
+    if (too_much == increasing) lo = mid; else hi = mid;
+  }
+  const double xc = 0.5 * (lo + hi);
+  return out_high ? integral(xc, 1.0 - b, 1.0) : integral(xc, 0.0, b);
+}
+
+TEST(Kernels, ThincOutflowMatchesItsProfileAndStaysWithinTheDonor) {
+  const double beta = 3.5;
+  for (const double a : {0.05, 0.3, 0.5, 0.8, 0.97})
+    for (const double b : {0.1, 0.45, 0.9})
+      for (const bool increasing : {true, false})
+        for (const bool out_high : {true, false}) {
+          const double lo = increasing ? 0.0 : 1.0, hi = increasing ? 1.0 : 0.0;   // neighbours that bracket the cell
+          const double f = hydro::thincOutflow(a, lo, hi, b, out_high, beta);
+          EXPECT_NEAR(f, thincByQuadrature(a, b, increasing, out_high, beta), 1e-9) << a << " " << b << " " << increasing << out_high;
+          EXPECT_LE(f, std::min(a, b));
+          EXPECT_GE(f, std::max(0.0, a - (1.0 - b)) - 1e-15);
+          // the other material's profile is the complement: the two fill the swept volume
+          const double other = hydro::thincOutflow(1.0 - a, hi, lo, b, out_high, beta);
+          EXPECT_NEAR(f + other, b, 1e-14);
+        }
+  // a pure donor gives exactly the swept fraction, an empty one nothing, at every b (at a = 1 the
+  // lower cap 1 - (1 - b) can round above b: the capping must not fail there)
+  for (int i = 1; i < 1000; ++i) {
+    const double b = i / 1000.0;
+    EXPECT_EQ(hydro::thincOutflow(1.0, 1.0, 1.0, b, true, beta), b);
+    EXPECT_EQ(hydro::thincOutflow(1.0, 0.0, 1.0, b, false, beta), b);
+    EXPECT_EQ(hydro::thincOutflow(0.0, 0.0, 1.0, b, true, beta), 0.0);
+  }
+  // no bracketing neighbours: the donor mean
+  EXPECT_DOUBLE_EQ(hydro::thincOutflow(0.4, 0.5, 0.5, 0.25, true, beta), 0.1);
 }
 
 TEST(Kernels, RemapOfAUniformFlowCarriesMassEnergyAndMomentumConsistently) {
