@@ -560,6 +560,12 @@ void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     double raw_sum = 0.0, raw[kMaxMaterials];
     for (int k = 0; k < M; ++k) {
       const std::size_t kD = P.at(k, D);
+      if (M > 1 && P.vk[kD] == 0.0 && vD > 0.0) {
+        // none of it in the donor (most materials at most faces of a pencil of several): the +0
+        // that the profile and the mean give, without the division and the profile's call
+        raw[k] = 0.0;
+        continue;
+      }
       const double al = P.vk[kD] / vD;
       const double wl = P.wl[kD];
       raw[k] = M == 1 ? bfrac : wl * thincOutflow(al, P.a[kD - 1], P.a[kD + 1], bfrac, out_high, thinc) + (1.0 - wl) * al * bfrac;
