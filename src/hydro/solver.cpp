@@ -449,48 +449,67 @@ void Solver::fillGhosts(int d) {
     idx[t_in] = b;
     return grid_.index(idx[0], idx[1], idx[2]);
   };
-  std::vector<std::size_t>& dst = ghost_dst_;
-  std::vector<std::size_t>& src = ghost_src_;
+  const std::array<int, 3> shape{grid_.cells(0), grid_.cells(1), grid_.cells(2)};
+  if (shape != ghost_shape_) {   // lists of another grid (a slab copies the whole's solver)
+    for (auto& lists : ghost_dst_)
+      for (auto& l : lists) l.clear();
+    for (auto& lists : ghost_src_)
+      for (auto& l : lists) l.clear();
+    ghost_shape_ = shape;
+  }
   for (int side = 0; side < 2; ++side) {
     if (d == 0 && (side == 0 ? halo_lo_ : halo_hi_)) continue;   // the neighbouring slab's cells (exchangeHalo)
     const BoundaryKind kind = opt_.boundary[static_cast<std::size_t>(d)][static_cast<std::size_t>(side)];
-    dst.clear();
-    src.clear();
-    for (int a = lo_out; a < hi_out; ++a)
-      for (int b = lo_in; b < hi_in; ++b)
-        for (int q = 0; q < kGhost; ++q) {
-          const int ghost = side == 0 ? -1 - q : n + q;
-          int from = 0;
-          switch (kind) {
-            case BoundaryKind::Reflect: from = side == 0 ? q : n - 1 - q; break;
-            case BoundaryKind::Transmit: from = side == 0 ? 0 : n - 1; break;
-            case BoundaryKind::Periodic: from = side == 0 ? n - 1 - q : q; break;
+    auto& dst = ghost_dst_[static_cast<std::size_t>(d)][static_cast<std::size_t>(side)];
+    auto& src = ghost_src_[static_cast<std::size_t>(d)][static_cast<std::size_t>(side)];
+    if (dst.empty()) {
+      for (int a = lo_out; a < hi_out; ++a)
+        for (int b = lo_in; b < hi_in; ++b)
+          for (int q = 0; q < kGhost; ++q) {
+            const int ghost = side == 0 ? -1 - q : n + q;
+            int from = 0;
+            switch (kind) {
+              case BoundaryKind::Reflect: from = side == 0 ? q : n - 1 - q; break;
+              case BoundaryKind::Transmit: from = side == 0 ? 0 : n - 1; break;
+              case BoundaryKind::Periodic: from = side == 0 ? n - 1 - q : q; break;
+            }
+            dst.push_back(at(ghost, a, b));
+            src.push_back(at(std::clamp(from, 0, n - 1), a, b));
           }
-          dst.push_back(at(ghost, a, b));
-          src.push_back(at(std::clamp(from, 0, n - 1), a, b));
-        }
+    }
+    // the arrays to copy and their signs, then the copies in blocks of the list on the threads
+    // (no ghost of axis d is a source: from lies in 0 .. n - 1)
+    std::array<std::pair<double*, double>, 3 + kMaxMaterials * 10> arrays{};
+    std::size_t count = 0;
+    auto add = [&](std::vector<double>& v, double sign) { arrays[count++] = {v.data(), sign}; };
     const std::size_t cells = dst.size();
-    auto copy = [&](std::vector<double>& v, double sign) {
-      for (std::size_t i = 0; i < cells; ++i) v[dst[i]] = sign * v[src[i]];
-    };
     for (auto& f : fields_) {
       // A material absent from the boundary's cells and from its ghosts has nothing to copy: its
       // ghosts' fraction is already zero, and no kernel reads a material's state where it is zero.
       bool present = false;
       for (std::size_t i = 0; i < cells && !present; ++i) present = f.alpha[src[i]] != 0.0 || f.alpha[dst[i]] != 0.0;
       if (!present) continue;
-      copy(f.alpha, 1.0);
-      copy(f.rho, 1.0);
-      copy(f.e, 1.0);
-      copy(f.h0, 1.0);
+      add(f.alpha, 1.0);
+      add(f.rho, 1.0);
+      add(f.e, 1.0);
+      add(f.h0, 1.0);
       if (f.s[0].empty()) continue;
       for (int c = 0; c < 6; ++c) {
         // a mirror flips the shear stresses across it
         const bool flip = kind == BoundaryKind::Reflect && c >= 3 && (c == stressIndex(d, (d + 1) % 3) || c == stressIndex(d, (d + 2) % 3));
-        copy(f.s[static_cast<std::size_t>(c)], flip ? -1.0 : 1.0);
+        add(f.s[static_cast<std::size_t>(c)], flip ? -1.0 : 1.0);
       }
     }
-    for (std::size_t c = 0; c < 3; ++c) copy(u_[c], kind == BoundaryKind::Reflect && static_cast<int>(c) == d ? -1.0 : 1.0);
+    for (std::size_t c = 0; c < 3; ++c) add(u_[c], kind == BoundaryKind::Reflect && static_cast<int>(c) == d ? -1.0 : 1.0);
+    constexpr std::size_t kBlock = 1024;
+    parallel::forEachBlock((cells + kBlock - 1) / kBlock, useThreads(), ghost_balance_[static_cast<std::size_t>(d)][static_cast<std::size_t>(side)], [&](std::size_t blk) {
+      const std::size_t from = blk * kBlock, to = std::min(cells, from + kBlock);
+      for (std::size_t k = 0; k < count; ++k) {
+        double* const v = arrays[k].first;
+        const double sign = arrays[k].second;
+        for (std::size_t i = from; i < to; ++i) v[dst[i]] = sign * v[src[i]];
+      }
+    });
     if (kind == BoundaryKind::Transmit && !opt_.inflow_barred.empty()) barInflow(d, side, dst, src);
   }
 }

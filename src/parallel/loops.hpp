@@ -119,6 +119,16 @@ double minOverCells(int n0, int n1, int n2, bool team, LoadBalance& balance, F&&
       });
 }
 
+// f(b) for blocks b = 0 .. blocks - 1 that the caller cut (a block is worth a clock read: some
+// hundreds of cells), on threads when `team`.
+template <class F>
+void forEachBlock(std::size_t blocks, bool team, LoadBalance& balance, F&& f) {
+  balancedMin(blocks, team, balance, 0, [] {}, [&](std::size_t b) {
+    f(b);
+    return 0;
+  });
+}
+
 // f(i, j, k) for every cell of an n0 x n1 x n2 box, on threads when `team`.
 template <class F>
 void forEachCell(int n0, int n1, int n2, bool team, LoadBalance& balance, F&& f) {
