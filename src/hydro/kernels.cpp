@@ -562,7 +562,8 @@ void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
       const std::size_t kD = P.at(k, D);
       if (M > 1 && P.vk[kD] == 0.0 && vD > 0.0) {
         // none of it in the donor (most materials at most faces of a pencil of several): the +0
-        // that the profile and the mean give, without the division and the profile's call
+        // that the profile and the mean give, without the division and the profile's call; the sum
+        // starts at +0 and adds no negative term, so adding +0 to it changed no bit
         raw[k] = 0.0;
         continue;
       }

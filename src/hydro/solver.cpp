@@ -477,8 +477,9 @@ void Solver::fillGhosts(int d) {
             src.push_back(at(std::clamp(from, 0, n - 1), a, b));
           }
     }
-    // the arrays to copy and their signs, then the copies in blocks of the list on the threads
-    // (no ghost of axis d is a source: from lies in 0 .. n - 1)
+    // the arrays to copy and their signs, then the copies in blocks of the list on the threads: no
+    // ghost of axis d is a source (from lies in 0 .. n - 1) and no ghost is listed twice, so the
+    // blocks neither race nor depend on their order
     std::array<std::pair<double*, double>, 3 + kMaxMaterials * 10> arrays{};
     std::size_t count = 0;
     auto add = [&](std::vector<double>& v, double sign) { arrays[count++] = {v.data(), sign}; };
@@ -503,11 +504,11 @@ void Solver::fillGhosts(int d) {
     for (std::size_t c = 0; c < 3; ++c) add(u_[c], kind == BoundaryKind::Reflect && static_cast<int>(c) == d ? -1.0 : 1.0);
     constexpr std::size_t kBlock = 1024;
     parallel::forEachBlock((cells + kBlock - 1) / kBlock, useThreads(), ghost_balance_[static_cast<std::size_t>(d)][static_cast<std::size_t>(side)], [&](std::size_t blk) {
-      const std::size_t from = blk * kBlock, to = std::min(cells, from + kBlock);
+      const std::size_t first = blk * kBlock, last = std::min(cells, first + kBlock);
       for (std::size_t k = 0; k < count; ++k) {
         double* const v = arrays[k].first;
         const double sign = arrays[k].second;
-        for (std::size_t i = from; i < to; ++i) v[dst[i]] = sign * v[src[i]];
+        for (std::size_t i = first; i < last; ++i) v[dst[i]] = sign * v[src[i]];
       }
     });
     if (kind == BoundaryKind::Transmit && !opt_.inflow_barred.empty()) barInflow(d, side, dst, src);
@@ -569,6 +570,7 @@ Solver Solver::slab(int begin, int end) const {
   s.grid_ = grid_.slab(begin, end);
   s.exchange_ = nullptr;
   s.halo_lo_ = s.halo_hi_ = false;
+  s.ghost_shape_ = {};   // the whole's ghost lists do not index the slab (fillGhosts rebuilds them)
   const std::size_t total = s.grid_.totalCells(), whole_total = grid_.totalCells();
   std::vector<std::size_t> from(total);   // each slab cell's cell in the whole
   for (std::size_t c = 0; c < total; ++c) {
