@@ -71,12 +71,15 @@ int threadNumber() {
 #endif
 }
 
-// A scratch whose constructor runs code (not constant-initialised): each thread's must be built on
-// that thread, and be that thread's alone.
+// A scratch whose constructor runs code (counting itself, so that it cannot be constant-initialised
+// as Pencil can): each thread's must be built on that thread, and be that thread's alone.
 std::atomic<int> g_constructed{0};
 struct Scratch {
-  Scratch() : tag(42 + 0 * g_constructed.fetch_add(1)) {}
-  int tag;
+  Scratch() {
+    g_constructed.fetch_add(1);
+    tag = 42;
+  }
+  int tag = 0;
   int owner = -1;
   std::vector<double> data;
 };
