@@ -62,7 +62,7 @@ inline double blendedCost(const LoadBalance& balance, double before, double now)
 // The core of the layer: prepare() once on each thread, then block(b) -> T for each of the thread's
 // blocks, each timed into `balance`; returns the least of block()'s results (`none` for none).
 template <class T, class Prepare, class Block>
-T balancedMin(std::size_t blocks, bool team, LoadBalance& balance, T none, Prepare&& prepare, Block&& block) {
+T balancedMin(std::size_t blocks, [[maybe_unused]] bool team, LoadBalance& balance, T none, Prepare&& prepare, Block&& block) {
   T least = none;
 #pragma omp parallel if (team)
   {
