@@ -449,14 +449,6 @@ void Solver::fillGhosts(int d) {
     idx[t_in] = b;
     return grid_.index(idx[0], idx[1], idx[2]);
   };
-  const std::array<int, 3> shape{grid_.cells(0), grid_.cells(1), grid_.cells(2)};
-  if (shape != ghost_shape_) {   // lists of another grid (a slab copies the whole's solver)
-    for (auto& lists : ghost_dst_)
-      for (auto& l : lists) l.clear();
-    for (auto& lists : ghost_src_)
-      for (auto& l : lists) l.clear();
-    ghost_shape_ = shape;
-  }
   for (int side = 0; side < 2; ++side) {
     if (d == 0 && (side == 0 ? halo_lo_ : halo_hi_)) continue;   // the neighbouring slab's cells (exchangeHalo)
     const BoundaryKind kind = opt_.boundary[static_cast<std::size_t>(d)][static_cast<std::size_t>(side)];
@@ -570,7 +562,10 @@ Solver Solver::slab(int begin, int end) const {
   s.grid_ = grid_.slab(begin, end);
   s.exchange_ = nullptr;
   s.halo_lo_ = s.halo_hi_ = false;
-  s.ghost_shape_ = {};   // the whole's ghost lists do not index the slab (fillGhosts rebuilds them)
+  // the whole's ghost lists do not index the slab's cells: fillGhosts builds the slab's own
+  for (auto* lists : {&s.ghost_dst_, &s.ghost_src_})
+    for (auto& axis : *lists)
+      for (auto& side : axis) side.clear();
   const std::size_t total = s.grid_.totalCells(), whole_total = grid_.totalCells();
   std::vector<std::size_t> from(total);   // each slab cell's cell in the whole
   for (std::size_t c = 0; c < total; ++c) {

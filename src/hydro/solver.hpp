@@ -301,10 +301,9 @@ class Solver {
   bool any_strength_ = false;
   parallel::Exchange* exchange_ = nullptr;
   bool halo_lo_ = false, halo_hi_ = false;   // a neighbouring slab below / above along axis 0
-  // fillGhosts' lists by axis and side: a boundary's ghost cells and the cells they copy, built
-  // once for the grid's shape (ghost_shape_; a slab of the domain has its own)
+  // fillGhosts' lists by axis and side: a boundary's ghost cells and the cells they copy, built on
+  // first use (the grid's shape never changes; slab() clears them for the slab's own)
   std::array<std::array<std::vector<std::size_t>, 2>, 3> ghost_dst_, ghost_src_;
-  std::array<int, 3> ghost_shape_{};
   std::array<std::array<parallel::LoadBalance, 2>, 3> ghost_balance_;
 };
 

@@ -53,11 +53,11 @@ struct LoadBalance {
       begin[static_cast<std::size_t>(t)] = at;
     }
   }
-};
 
-// A block's new time, folded into what it cost before: one block slowed by the machine (another
-// process on the core) moves the next split by half as much.
-inline double blendedCost(const LoadBalance& balance, double before, double now) { return balance.measured ? 0.5 * (before + now) : now; }
+  // Block b's new time, folded into what it cost before: one block slowed by the machine (another
+  // process on the core) moves the next split by half as much.
+  void record(std::size_t b, double took) { cost[b] = measured ? 0.5 * (cost[b] + took) : took; }
+};
 
 // The core of the layer: prepare() once on each thread, then block(b) -> T for each of the thread's
 // blocks, each timed into `balance`; returns the least of block()'s results (`none` for none).
@@ -82,8 +82,7 @@ T balancedMin(std::size_t blocks, [[maybe_unused]] bool team, LoadBalance& balan
       for (std::size_t b = balance.begin[static_cast<std::size_t>(t)]; b < to; ++b) {
         const auto started = std::chrono::steady_clock::now();
         mine = std::min(mine, block(b));
-        const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-        balance.cost[b] = blendedCost(balance, balance.cost[b], took);
+        balance.record(b, std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
       }
     }
 #pragma omp critical
