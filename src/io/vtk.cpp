@@ -4,14 +4,37 @@
 
 namespace ejecta::io {
 
+namespace {
+
+// The arrays a snapshot holds, in file order: a piece and its index (.pvtr) name them alike.
+struct ArrayInfo {
+  std::string name, type;
+  int components = 1;
+};
+std::vector<ArrayInfo> cellArrays(const hydro::Solver& s) {
+  std::vector<ArrayInfo> a;
+  for (const auto& m : s.materials()) a.push_back({"alpha_" + m.name, "Float64"});
+  a.push_back({"density", "Float64"});
+  a.push_back({"pressure", "Float64"});
+  a.push_back({"velocity", "Float64", 3});
+  a.push_back({"target", "UInt8"});
+  return a;
+}
+const char* axisName(const mesh::Grid& g, int d) { return d == 0 ? (g.axisymmetric() ? "r" : "x") : (d == 1 ? (g.axisymmetric() ? "z" : "y") : "z3"); }
+
+}  // namespace
+
 void writeVtr(std::ostream& os, const hydro::Solver& s) {
   const auto& g = s.grid();
-  const int n0 = g.cells(0), n1 = g.cells(1), n2 = g.dims() == 3 ? g.cells(2) : 0;
+  // a slab's cells sit at its offset along axis 0 in the whole's numbering
+  const int i0 = g.offset0(), n0 = g.cells(0), n1 = g.cells(1), n2 = g.dims() == 3 ? g.cells(2) : 0;
+  // A piece's WholeExtent is its own extent, as VTK's parallel writers give their pieces: each opens alone.
+  const std::string extent = fmt::format("{} {} 0 {} 0 {}", i0, i0 + n0, n1, n2);
   os << "<?xml version=\"1.0\"?>\n<VTKFile type=\"RectilinearGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n";
-  os << fmt::format("<RectilinearGrid WholeExtent=\"0 {} 0 {} 0 {}\">\n<Piece Extent=\"0 {} 0 {} 0 {}\">\n", n0, n1, n2, n0, n1, n2);
+  os << fmt::format("<RectilinearGrid WholeExtent=\"{}\">\n<Piece Extent=\"{}\">\n", extent, extent);
   os << "<Coordinates>\n";
   for (int d = 0; d < 3; ++d) {
-    os << fmt::format("<DataArray type=\"Float64\" Name=\"{}\" format=\"ascii\">\n", d == 0 ? (g.axisymmetric() ? "r" : "x") : (d == 1 ? (g.axisymmetric() ? "z" : "y") : "z3"));
+    os << fmt::format("<DataArray type=\"Float64\" Name=\"{}\" format=\"ascii\">\n", axisName(g, d));
     if (d < g.dims())
       for (const double f : g.axis(d).faces()) os << fmt::format("{:.9g} ", f);
     else
@@ -25,20 +48,45 @@ void writeVtr(std::ostream& os, const hydro::Solver& s) {
       for (int j = 0; j < n1; ++j)
         for (int i = 0; i < n0; ++i) value(g.index(i, j, k));
   };
+  const auto arrays = cellArrays(s);
+  auto open = [&](const ArrayInfo& a) {
+    os << fmt::format("<DataArray type=\"{}\" Name=\"{}\"{} format=\"ascii\">\n", a.type, a.name,
+                      a.components > 1 ? fmt::format(" NumberOfComponents=\"{}\"", a.components) : std::string());
+  };
+  std::size_t next = 0;
   for (int m = 0; m < s.materialCount(); ++m) {
-    os << fmt::format("<DataArray type=\"Float64\" Name=\"alpha_{}\" format=\"ascii\">\n", s.materials()[static_cast<std::size_t>(m)].name);
+    open(arrays[next++]);
     cells([&](std::size_t c) { os << fmt::format("{:.6g} ", s.isBody(c) ? 0.0 : s.field(m).alpha[c]); });
     os << "\n</DataArray>\n";
   }
-  os << "<DataArray type=\"Float64\" Name=\"density\" format=\"ascii\">\n";
+  open(arrays[next++]);
   cells([&](std::size_t c) { os << fmt::format("{:.6g} ", s.isBody(c) ? 0.0 : s.density(c)); });
-  os << "\n</DataArray>\n<DataArray type=\"Float64\" Name=\"pressure\" format=\"ascii\">\n";
+  os << "\n</DataArray>\n";
+  open(arrays[next++]);
   cells([&](std::size_t c) { os << fmt::format("{:.6g} ", s.isBody(c) ? 0.0 : s.pressure(c)); });
-  os << "\n</DataArray>\n<DataArray type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+  os << "\n</DataArray>\n";
+  open(arrays[next++]);
   cells([&](std::size_t c) { os << fmt::format("{:.6g} {:.6g} {:.6g} ", s.velocity(0)[c], s.velocity(1)[c], s.velocity(2)[c]); });
-  os << "\n</DataArray>\n<DataArray type=\"UInt8\" Name=\"target\" format=\"ascii\">\n";
+  os << "\n</DataArray>\n";
+  open(arrays[next++]);
   cells([&](std::size_t c) { os << (s.isBody(c) ? "1 " : "0 "); });
   os << "\n</DataArray>\n</CellData>\n</Piece>\n</RectilinearGrid>\n</VTKFile>\n";
+}
+
+void writePvtr(std::ostream& os, const hydro::Solver& slab, const std::vector<VtrPiece>& pieces) {
+  const auto& g = slab.grid();
+  const int n1 = g.cells(1), n2 = g.dims() == 3 ? g.cells(2) : 0;
+  os << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PRectilinearGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n";
+  os << fmt::format("<PRectilinearGrid WholeExtent=\"0 {} 0 {} 0 {}\" GhostLevel=\"0\">\n", g.globalCells0(), n1, n2);
+  os << "<PCoordinates>\n";
+  for (int d = 0; d < 3; ++d) os << fmt::format("<PDataArray type=\"Float64\" Name=\"{}\"/>\n", axisName(g, d));
+  os << "</PCoordinates>\n<PCellData Scalars=\"density\" Vectors=\"velocity\">\n";
+  for (const auto& a : cellArrays(slab))
+    os << fmt::format("<PDataArray type=\"{}\" Name=\"{}\"{}/>\n", a.type, a.name,
+                      a.components > 1 ? fmt::format(" NumberOfComponents=\"{}\"", a.components) : std::string());
+  os << "</PCellData>\n";
+  for (const auto& p : pieces) os << fmt::format("<Piece Extent=\"{} {} 0 {} 0 {}\" Source=\"{}\"/>\n", p.begin, p.end, n1, n2, p.file);
+  os << "</PRectilinearGrid>\n</VTKFile>\n";
 }
 
 void writePvd(std::ostream& os, const std::vector<std::pair<double, std::string>>& snapshots) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <chrono>
 #include <cmath>
@@ -345,12 +346,16 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   if (writer && !opt.restart.empty()) {
     // The snapshots before the checkpoint belong to this run too: copied from the checkpoint's
     // folder where they are there; fields.pvd lists only the snapshots the folder holds.
+    // A snapshot is one .vtr, or on ranks a .pvtr and its pieces (field_NNNN_pRRRR.vtr).
     const fs::path from = fs::path(opt.restart).parent_path() / "fields";
-    for (std::size_t i = 0; i < st.field_times.size(); ++i) {
-      const std::string name = fmt::format("field_{:04d}.vtr", i);
-      std::error_code ec;
-      if (fs::is_regular_file(from / name, ec)) fs::copy_file(from / name, out / "fields" / name, fs::copy_options::overwrite_existing);
-    }
+    std::error_code ec;
+    if (fs::is_directory(from, ec))
+      for (const auto& entry : fs::directory_iterator(from, ec)) {
+        const std::string name = entry.path().filename().string();
+        unsigned i = 0;
+        if (std::sscanf(name.c_str(), "field_%4u", &i) == 1 && i < st.field_times.size() && entry.is_regular_file(ec))
+          fs::copy_file(entry.path(), out / "fields" / name, fs::copy_options::overwrite_existing);
+      }
   }
 
   const coupling::Target target(cs.plate.present, deck.target.motion == "free", deck.target.mass_kg, deck.gravity ? 9.81 : 0.0, cs.symmetry,
@@ -454,10 +459,32 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     st.gauges.push_back(gr);
   };
   auto writeField = [&]() {
-    if (slab) s.assemble(*rs, *ex);   // the whole, on every rank; rank 0 writes it
-    const std::string name = fmt::format("fields/field_{:04d}.vtr", st.next_field);
-    if (writer) io::writeFileAtomically(out / name, [&](std::ostream& os) { io::writeVtr(os, s); });
-    st.field_times.push_back(s.time());
+    const std::string stem = fmt::format("field_{:04d}", st.next_field);
+    if (!slab) {
+      if (writer) io::writeFileAtomically(out / "fields" / (stem + ".vtr"), [&](std::ostream& os) { io::writeVtr(os, s); });
+    } else {
+      // Each rank writes its slab as a piece, and rank 0 the index once every piece is on disk: no
+      // rank gathers the whole, and a snapshot whose piece failed gets no index.
+      const auto slabs = parallel::slabs(g.cells(0), ex->size());
+      auto pieceName = [&](int r) { return fmt::format("{}_p{:04d}.vtr", stem, r); };
+      ex->gatherAll({0.0});   // rank 0 has made the folder
+      std::string failed;
+      try {
+        io::writeFileAtomically(out / "fields" / pieceName(ex->rank()), [&](std::ostream& os) { io::writeVtr(os, *rs); });
+      } catch (const std::exception& e) {
+        failed = e.what();
+      }
+      const auto ok = ex->gatherAll({failed.empty() ? 1.0 : 0.0});
+      if (!failed.empty()) throw std::runtime_error(failed);
+      for (std::size_t r = 0; r < ok.size(); ++r)
+        if (ok[r] != 1.0) throw std::runtime_error(fmt::format("rank {} could not write its piece of fields/{}.pvtr", r, stem));
+      if (writer) {
+        std::vector<io::VtrPiece> pieces;
+        for (int r = 0; r < ex->size(); ++r) pieces.push_back({slabs[static_cast<std::size_t>(r)].begin, slabs[static_cast<std::size_t>(r)].end, pieceName(r)});
+        io::writeFileAtomically(out / "fields" / (stem + ".pvtr"), [&](std::ostream& os) { io::writePvtr(os, *rs, pieces); });
+      }
+    }
+    st.field_times.push_back(rs->time());
   };
   if (s.time() == 0.0) record();
 
@@ -657,10 +684,12 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
       }
     });
     std::vector<std::pair<double, std::string>> snaps;
-    for (std::size_t i = 0; i < st.field_times.size(); ++i) {
-      const std::string name = fmt::format("fields/field_{:04d}.vtr", i);
-      if (fs::exists(out / name)) snaps.push_back({st.field_times[i], name});
-    }
+    for (std::size_t i = 0; i < st.field_times.size(); ++i)
+      for (const char* kind : {".pvtr", ".vtr"})   // pieces joined by an index, or one file
+        if (const std::string name = fmt::format("fields/field_{:04d}{}", i, kind); fs::exists(out / name)) {
+          snaps.push_back({st.field_times[i], name});
+          break;
+        }
     io::writeFileAtomically(out / "fields.pvd", [&](std::ostream& os) { io::writePvd(os, snaps); });
   }
   nlohmann::json sum;
@@ -786,7 +815,10 @@ bool processAlive(long pid) { return pid > 0 && (::kill(static_cast<pid_t>(pid),
 // interrupted run leaves the previous complete folder as it was (and a killed one's staging
 // folder is removed by the next run into the same place).
 RunResult runCase(const Deck& deck, const RunOptions& opt) {
-  if (opt.exchange && opt.exchange->rank() != 0) return runStaged(deck, opt, fs::path());   // rank 0 writes the folder
+  // On ranks the staging folder is named by rank 0's process: every rank writes its pieces of the
+  // field snapshots there (rank 0 makes it and writes the rest).
+  long stage_pid = static_cast<long>(::getpid());
+  if (opt.exchange && opt.exchange->size() > 1) stage_pid = static_cast<long>(opt.exchange->gatherAll({static_cast<double>(stage_pid)})[0]);
   fs::path out = fs::path(opt.out_dir).lexically_normal();
   if (out.filename().empty()) out = out.parent_path();
   if (out.empty() || out.filename() == "." || out.filename() == "..")
@@ -798,6 +830,8 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
   prefix.append(out.filename().string()).append(".staging-");
   std::string old_name(1, '.');
   old_name.append(out.filename().string()).append(".old-").append(std::to_string(static_cast<long>(::getpid())));
+  // (only rank 0 clears and makes folders: a rank on another node would find rank 0's process dead)
+  if (opt.exchange && opt.exchange->rank() != 0) return runStaged(deck, opt, parent / (prefix + std::to_string(stage_pid)));
   std::error_code ec;
   if (fs::is_directory(parent, ec))
     for (const auto& entry : fs::directory_iterator(parent, ec)) {
@@ -807,7 +841,7 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
       const long pid = std::strtol(name.c_str() + prefix.size(), &end, 10);
       if (end && *end == '\0' && !processAlive(pid)) fs::remove_all(entry.path(), ec);
     }
-  const fs::path stage = parent / (prefix + std::to_string(static_cast<long>(::getpid())));
+  const fs::path stage = parent / (prefix + std::to_string(stage_pid));
   fs::remove_all(stage, ec);
   // A folder that cannot be made is bad input (exit 2), said in words, before the run starts.
   ec.clear();

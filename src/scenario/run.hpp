@@ -1,7 +1,7 @@
 #pragma once
 // `ejecta run`: one buried-charge case from its deck to the run folder: summary.json,
 // history.csv (plate impulse, force, velocity, displacement, impulse by material, bubble height),
-// gauges.csv, surface_profiles.csv, fields/*.vtr + fields.pvd (ParaView), plots.png, and on
+// gauges.csv, surface_profiles.csv, fields/*.vtr (on MPI ranks .pvtr indexes of per-rank pieces) + fields.pvd (ParaView), plots.png, and on
 // request a checkpoint that a restart continues bit for bit.
 #include <functional>
 #include <string>

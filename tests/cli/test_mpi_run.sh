@@ -2,10 +2,12 @@
 # `ejecta run` on MPI ranks (docs/solver.md, domain decomposition): the same deck on 1 process and
 # on 2 and 3 ranks prints the same impulse and writes the same history, gauges and surface profiles
 # byte for byte (2D axisymmetric and the 3D V-plate); a checkpoint written on 2 ranks restarts on 1
-# and on 3 into the uninterrupted run's history; bad input on ranks exits 2, said once.
+# and on 3 into the uninterrupted run's history; each rank writes its piece of a field snapshot and
+# the pieces joined are the one process's snapshot value for value; bad input on ranks exits 2,
+# said once.
 # Usage: test_mpi_run.sh EJECTA MPIEXEC
 set -uo pipefail
-ejecta=$(realpath "$1"); mpiexec=$2
+ejecta=$(realpath "$1"); mpiexec=$2; pieces_match=$(realpath "$(dirname "$0")/vtr_pieces_match.py")
 work=$(mktemp -d); trap 'rm -rf "$work"' EXIT; cd "$work"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1 OMPI_MCA_rmaps_base_oversubscribe=1
 fails=0
@@ -18,25 +20,32 @@ same() {   # folders a and b: the printed impulse, the run's tables and summary.
     && [[ "$(grep impulse "$1.out")" == "$(grep impulse "$2.out")" ]] && [[ -n "$(grep impulse "$1.out")" ]] \
     && python3 -c "import json,sys; a,b=(json.load(open(f+'/summary.json')) for f in sys.argv[1:]); sys.exit(a['result']!=b['result'] or a['totals']!=b['totals'])" "$1" "$2"
 }
-flat=(run emi-flat-22 --cell-size 40 --set end_time_s=0.001 --no-plot --quiet)
+flat=(run emi-flat-22 --cell-size 40 --set end_time_s=0.001 --set 'output.field_times_s=[0.0005,0.001]' --no-plot --quiet)
 "$ejecta" "${flat[@]}" --out f1 > f1.out 2>/dev/null
 ranks 2 "${flat[@]}" --out f2 > f2.out 2>/dev/null
 ranks 3 "${flat[@]}" --out f3 > f3.out 2>/dev/null
 check "2D: 2 ranks as 1 process ($(grep impulse f1.out | xargs))" "same f1 f2"
 check "2D: 3 ranks as 1 process" "same f1 f3"
 check "2D: summary.json records the ranks" "grep -q '\"ranks\": 3' f3/summary.json"
+check "2D fields: 3 pieces joined are the one process's snapshot ($(python3 "$pieces_match" f1/fields/field_0001.vtr f3/fields/field_0001.pvtr))" \
+  "python3 '$pieces_match' f1/fields/field_0000.vtr f3/fields/field_0000.pvtr >/dev/null && python3 '$pieces_match' f1/fields/field_0001.vtr f3/fields/field_0001.pvtr >/dev/null"
+check "fields.pvd lists each snapshot's index at its time" "grep -q 'timestep=\"0.001\" file=\"fields/field_0001.pvtr\"' f2/fields.pvd && [[ \$(ls f2/fields | wc -l) -eq 6 ]]"
 check "ranks other than 0 write nothing beside the run folders ($(ls | tr '\n' ' '))" "[[ \$(ls | grep -cv -e '^f[123]\$' -e '^f[123].out\$') -eq 0 ]]"
-v=(run emi-v120-7 --cell-size 60 --set end_time_s=0.0005 --no-plot --quiet)
+v=(run emi-v120-7 --cell-size 60 --set end_time_s=0.0005 --set 'output.field_times_s=[0.0005]' --no-plot --quiet)
 "$ejecta" "${v[@]}" --out v1 > v1.out 2>/dev/null
 ranks 2 "${v[@]}" --out v2 > v2.out 2>/dev/null
 check "3D V-plate: 2 ranks as 1 process ($(grep impulse v1.out | xargs))" "same v1 v2"
-cover=(run field-cover7-2.5cm --cell-size 40 --no-plot --quiet)
+check "3D fields: 2 pieces joined are the one process's snapshot" "python3 '$pieces_match' v1/fields/field_0000.vtr v2/fields/field_0000.pvtr >/dev/null"
+cover=(run field-cover7-2.5cm --cell-size 40 --set 'output.field_times_s=[0.0002,0.0008]' --no-plot --quiet)
 "$ejecta" "${cover[@]}" --set end_time_s=0.001 --out u > u.out 2>/dev/null
 ranks 2 "${cover[@]}" --set end_time_s=0.0005 --checkpoint-at 0.00025 --out c > /dev/null 2>&1
 "$ejecta" "${cover[@]}" --set end_time_s=0.001 --restart c/checkpoint.bin --out r1 > r1.out 2>/dev/null
 ranks 3 "${cover[@]}" --set end_time_s=0.001 --restart c/checkpoint.bin --out r3 > r3.out 2>/dev/null
 check "a checkpoint of 2 ranks restarts on 1 process as the uninterrupted run" "cmp -s u/history.csv r1/history.csv"
 check "...and on 3 ranks" "cmp -s u/history.csv r3/history.csv"
+check "...whose folder holds the 2 ranks' snapshots before the checkpoint and its own after, each listed" \
+  "grep -o 'fields/field_[0-9]*.pvtr' r3/fields.pvd | while read f; do [[ -s r3/\$f ]] || exit 1; for p in \$(grep -o 'Source=\"[^\"]*' r3/\$f | cut -d'\"' -f2); do [[ -s r3/fields/\$p ]] || exit 1; done; done \
+   && [[ \$(grep -c pvtr r3/fields.pvd) -ge 2 ]]"
 err=$(ranks 2 run --set mesh.cell_size_m=-1 --out bad 2>&1 >/dev/null); rc=$?
 check "bad input on ranks: exit 2, said once" "[[ $rc -eq 2 ]] && [[ \$(grep -c 'mesh.cell_size_m' <<< \"\$err\") -eq 1 ]] && [[ ! -e bad ]]"
 err=$(ranks 2 soil --json 2>&1 >/dev/null); rc=$?
