@@ -25,7 +25,10 @@ void Pencil::resize(int cells, int materials) {
   n = cells;
   N = cells + 2 * kGhost;
   M = materials;
-  for (int k = 0; k < kMaxMaterials; ++k) mat[k] = k;
+  for (int k = 0; k < kMaxMaterials; ++k) {
+    mat[k] = k;
+    strengthless[k] = false;
+  }
   const auto sN = static_cast<std::size_t>(N), sF = sN + 1, sMN = sN * static_cast<std::size_t>(M),
              sMF = sF * static_cast<std::size_t>(M);
   for (auto* v : {&vol, &rho, &P, &K, &Z, &hoop, &pmin, &vlag, &mass, &ke, &su, &sp}) v->assign(sN, 0.0);
@@ -541,7 +544,8 @@ void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
   for (int k = 0; k < M; ++k) {
     const auto lo = static_cast<std::ptrdiff_t>(P.atFace(k, g)), hi = static_cast<std::ptrdiff_t>(P.atFace(k, g + n)) + 1;
     for (auto* v : {&P.fv, &P.fm, &P.fe, &P.fh, &P.fkek}) std::fill(v->begin() + lo, v->begin() + hi, 0.0);
-    for (auto& fs : P.fs) std::fill(fs.begin() + lo, fs.begin() + hi, 0.0);
+    if (!P.strengthless[k])
+      for (auto& fs : P.fs) std::fill(fs.begin() + lo, fs.begin() + hi, 0.0);
   }
   for (auto& fm : P.fmom) std::fill(fm.begin() + g, fm.begin() + g + n + 1, 0.0);
   for (int f = g; f <= g + n; ++f) {
@@ -620,7 +624,8 @@ void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
       P.fm[kf] = sign * mflux;
       P.fe[kf] = sign * eflux;
       P.fh[kf] = sign * mflux * P.h[kD];
-      for (std::size_t q = 0; q < 6; ++q) P.fs[q][kf] = sign * mflux * P.s[q][kD];
+      if (!P.strengthless[k])
+        for (std::size_t q = 0; q < 6; ++q) P.fs[q][kf] = sign * mflux * P.s[q][kD];
       mflux_k[k] = mflux;
       dm += mflux;
     }

@@ -31,6 +31,9 @@ struct Pencil {
   // of pure air or pure sand does one material's work after a scan of each material's fractions.
   // The body's load is booked by the run's index.
   int mat[kMaxMaterials] = {};
+  // A material without strength (gas, products, water) carries no deviatoric stress: its stress
+  // (`s`) and stress fluxes (`fs`) are neither written nor read. False (the default) carries them.
+  bool strengthless[kMaxMaterials] = {};
   bool radial = false;       // axisymmetric or spherical r-sweep: swept volumes are annuli or shells
   bool spherical = false;    // spherical r-sweep: volumes r^3 / 3 per steradian
   double ring_width = 0.0;   // axisymmetric r-sweep: the cell's z width

@@ -937,7 +937,8 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
         P.h[ki] = 0.0;
         P.pk[ki] = 0.0;
         P.kk[ki] = 0.0;
-        for (std::size_t q = 0; q < 6; ++q) P.s[q][ki] = 0.0;
+        if (!P.strengthless[k])
+          for (std::size_t q = 0; q < 6; ++q) P.s[q][ki] = 0.0;
         continue;
       }
       P.r[ki] = F.rho[c];
@@ -957,8 +958,6 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
         s11 += al * F.s[1][c];
         sh1 += al * F.s[static_cast<std::size_t>(s_dt1)][c];
         sh2 += al * F.s[static_cast<std::size_t>(s_dt2)][c];
-      } else {
-        for (std::size_t q = 0; q < 6; ++q) P.s[q][ki] = 0.0;
       }
     }
     P.rho[si] = rho;
@@ -993,6 +992,7 @@ void Solver::selectMaterials(Pencil& P, int d, std::size_t base) const {
     used = M;
   }
   P.M = used;
+  for (int k = 0; k < used; ++k) P.strengthless[k] = fields_[static_cast<std::size_t>(P.mat[k])].s[0].empty();
 }
 
 // The new Eulerian state of the pencil's interior cells. Returns the first cell that went bad
