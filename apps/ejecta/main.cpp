@@ -124,8 +124,11 @@ int runCommand(int argc, char** argv) {
     // no permission): said in words, naming the path, as bad input
     std::cerr << "ejecta: error: " << e.path1().string() << ": " << e.code().message() << '\n';
     return 2;
+  } catch (const ejecta::SharedFailure& e) {
+    if (ejecta::cli::speaks()) std::cerr << "ejecta: failed: " << e.what() << '\n';
+    return 1;
   } catch (const std::exception& e) {
-    std::cerr << "ejecta: failed: " << e.what() << '\n';
+    std::cerr << "ejecta: failed: " << ejecta::cli::rankPrefix() << e.what() << '\n';
     return 1;
   }
 }

@@ -2,6 +2,8 @@
 #include "core/atomic_file.hpp"
 
 #include <atomic>
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <stdexcept>
 #include <system_error>
@@ -33,12 +35,15 @@ void requireRegularTarget(const std::filesystem::path& path) {
   throw InputError(path.string(), fmt::format("is {}; outputs are written to regular files only (give a new or regular file's path)", what));
 }
 
-void writeTo(const std::filesystem::path& tmp, const std::function<void(std::ostream&)>& writer) {
+// The messages name the file the user will look for, not its temporary sibling, and the system's
+// reason where it left one (a full disk, a file size limit).
+void writeTo(const std::filesystem::path& tmp, const std::filesystem::path& path, const std::function<void(std::ostream&)>& writer) {
+  errno = 0;
   std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-  if (!out) throw std::runtime_error(fmt::format("cannot write {}", tmp.string()));
+  if (!out) throw std::runtime_error(fmt::format("cannot write {}{}", path.string(), errno ? ": " + std::string(std::strerror(errno)) : ""));
   writer(out);
   out.flush();
-  if (!out) throw std::runtime_error(fmt::format("write failed for {}", tmp.string()));
+  if (!out) throw std::runtime_error(fmt::format("write failed for {}{}", path.string(), errno ? ": " + std::string(std::strerror(errno)) : ""));
 }
 }  // namespace
 
@@ -47,7 +52,7 @@ void writeFileAtomically(const std::filesystem::path& path,
   requireRegularTarget(path);
   auto tmp = temporarySibling(path);
   try {
-    writeTo(tmp, writer);
+    writeTo(tmp, path, writer);
     std::filesystem::rename(tmp, path);
   } catch (...) {
     std::error_code ec;
@@ -82,7 +87,7 @@ std::filesystem::path OutputTransaction::reserve(const std::filesystem::path& fi
 std::filesystem::path OutputTransaction::stage(const std::filesystem::path& final_path,
                                                const std::function<void(std::ostream&)>& writer) {
   auto tmp = reserve(final_path);
-  writeTo(tmp, writer);
+  writeTo(tmp, final_path, writer);
   return tmp;
 }
 

@@ -22,4 +22,11 @@ class RunError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A failure that every MPI rank met together (a collective found it) and stops with: the front end
+// says it once, from rank 0, and exits 1 as for any other failure.
+class SharedFailure : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 }  // namespace ejecta

@@ -201,7 +201,7 @@ class Solver {
   // books so far, the others start theirs at zero (so that the slabs' books sum to the whole's).
   Solver slab(int begin, int end) const;
   // This (whole) solver takes the state the slabs of `ex` hold now, `mine` being this rank's: every
-  // rank gets every cell (for writing fields and checkpoints), the clock and the mesh, and the
+  // rank gets every cell (for checkpoints and the end state's books), the clock and the mesh, and the
   // energy books summed over the slabs.
   void assemble(const Solver& mine, parallel::Exchange& ex);
 

@@ -6,6 +6,20 @@ namespace ejecta::io {
 
 namespace {
 
+// A name in an XML attribute: a soil may be named "sand <wet> & dry".
+std::string xmlEscaped(const std::string& text) {
+  std::string out;
+  for (const char ch : text) {
+    switch (ch) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += ch;
+    }
+  }
+  return out;
+}
 // The arrays a snapshot holds, in file order: a piece and its index (.pvtr) name them alike.
 struct ArrayInfo {
   std::string name, type;
@@ -13,7 +27,7 @@ struct ArrayInfo {
 };
 std::vector<ArrayInfo> cellArrays(const hydro::Solver& s) {
   std::vector<ArrayInfo> a;
-  for (const auto& m : s.materials()) a.push_back({"alpha_" + m.name, "Float64"});
+  for (const auto& m : s.materials()) a.push_back({xmlEscaped("alpha_" + m.name), "Float64"});
   a.push_back({"density", "Float64"});
   a.push_back({"pressure", "Float64"});
   a.push_back({"velocity", "Float64", 3});

@@ -4,6 +4,7 @@
 // the ghost layers of its two neighbours, the smallest time step, and everyone's small lists in
 // rank order. The solver calls only this interface; the transport (MPI, threads) lives behind it,
 // so that the kernels never see MPI.
+#include <string>
 #include <vector>
 
 namespace ejecta::parallel {
@@ -29,5 +30,9 @@ class Exchange {
   // Every block's `mine`, concatenated in rank order, on every block.
   virtual std::vector<double> gatherAll(const std::vector<double>& mine) = 0;
 };
+
+// Every block's `mine` that is not empty, in rank order, joined by "; ", on every block: the words
+// of a failure that some blocks met, for all to stop with and one to say.
+std::string gatherText(Exchange& ex, const std::string& mine);
 
 }  // namespace ejecta::parallel

@@ -6,18 +6,6 @@
 
 namespace ejecta::parallel {
 
-std::vector<Slab> slabs(int cells, int parts) {
-  if (parts < 1 || cells < parts) throw InputError("ranks", "cannot split " + std::to_string(cells) + " cells into " + std::to_string(parts) + " slabs");
-  std::vector<Slab> s;
-  int at = 0;
-  for (int r = 0; r < parts; ++r) {
-    const int n = cells / parts + (r < cells % parts ? 1 : 0);
-    s.push_back({at, at + n});
-    at += n;
-  }
-  return s;
-}
-
 class ThreadMember final : public Exchange {
  public:
   ThreadMember(ThreadTeam& team, int rank) : team_(team), rank_(rank) {}

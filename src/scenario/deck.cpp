@@ -166,9 +166,9 @@ std::vector<Key> makeKeys() {
 
       number("output", "history_interval_s", in<&Deck::output, &OutputSpec::history_interval_s>, "s", {1e-8, 1.0}, "history and gauge sampling"),
       list("output", "profile_times_s", in<&Deck::output, &OutputSpec::profile_times_s>, KeyType::NumberList, "s", {0.0, kInf, true, true},
-           "soil-surface profile times, increasing (times past end_time_s are not reached)"),
+           "soil-surface profile times, increasing (times past end_time_s are not reached; times within the early time are taken at its map time)"),
       list("output", "field_times_s", in<&Deck::output, &OutputSpec::field_times_s>, KeyType::NumberList, "s", {0.0, kInf, true, true},
-           "VTK snapshot times, increasing"),
+           "VTK snapshot times, increasing (times within the early time are taken at its map time, which fields.pvd records)"),
       list("output", "gauges_m", in<&Deck::output, &OutputSpec::gauges_m>, KeyType::PointList, "m", any_length,
            "pressure gauges, a list of [r, z] points inside the domain"),
       number("output", "surface_soil_fraction", in<&Deck::output, &OutputSpec::surface_soil_fraction>, "-", {0.01, 1.0},

@@ -11,6 +11,7 @@
 #include <functional>
 #include <fstream>
 #include <optional>
+#include <regex>
 #include <map>
 #include <sstream>
 
@@ -346,15 +347,21 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   if (writer && !opt.restart.empty()) {
     // The snapshots before the checkpoint belong to this run too: copied from the checkpoint's
     // folder where they are there; fields.pvd lists only the snapshots the folder holds.
-    // A snapshot is one .vtr, or on ranks a .pvtr and its pieces (field_NNNN_pRRRR.vtr).
+    // A snapshot is one .vtr, or on ranks a .pvtr index and its pieces (field_NNNN_pRRRR.vtr): the
+    // pieces are copied with their index only.
     const fs::path from = fs::path(opt.restart).parent_path() / "fields";
+    const std::regex snapshot_file(R"(field_(\d+)(_p\d+)?\.(p?vtr))");
     std::error_code ec;
     if (fs::is_directory(from, ec))
       for (const auto& entry : fs::directory_iterator(from, ec)) {
         const std::string name = entry.path().filename().string();
-        unsigned i = 0;
-        if (std::sscanf(name.c_str(), "field_%4u", &i) == 1 && i < st.field_times.size() && entry.is_regular_file(ec))
-          fs::copy_file(entry.path(), out / "fields" / name, fs::copy_options::overwrite_existing);
+        std::smatch m;
+        if (!std::regex_match(name, m, snapshot_file) || !entry.is_regular_file(ec)) continue;
+        const std::string number = m[1].str();
+        if (number.size() > 9 || std::stoul(number) >= st.field_times.size()) continue;
+        const bool piece = m[2].matched;
+        if (piece && (m[3].str() != "vtr" || !fs::is_regular_file(from / ("field_" + number + ".pvtr"), ec))) continue;
+        fs::copy_file(entry.path(), out / "fields" / name, fs::copy_options::overwrite_existing);
       }
   }
 
@@ -467,17 +474,15 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
       // rank gathers the whole, and a snapshot whose piece failed gets no index.
       const auto slabs = parallel::slabs(g.cells(0), ex->size());
       auto pieceName = [&](int r) { return fmt::format("{}_p{:04d}.vtr", stem, r); };
-      ex->gatherAll({0.0});   // rank 0 has made the folder
       std::string failed;
       try {
         io::writeFileAtomically(out / "fields" / pieceName(ex->rank()), [&](std::ostream& os) { io::writeVtr(os, *rs); });
       } catch (const std::exception& e) {
         failed = e.what();
       }
-      const auto ok = ex->gatherAll({failed.empty() ? 1.0 : 0.0});
-      if (!failed.empty()) throw std::runtime_error(failed);
-      for (std::size_t r = 0; r < ok.size(); ++r)
-        if (ok[r] != 1.0) throw std::runtime_error(fmt::format("rank {} could not write its piece of fields/{}.pvtr", r, stem));
+      // every rank learns every failure in words, so that rank 0 says the cause once
+      const std::string all = parallel::gatherText(*ex, failed.empty() ? std::string() : fmt::format("rank {}: {}", ex->rank(), failed));
+      if (!all.empty()) throw SharedFailure(fmt::format("could not write the pieces of fields/{}.pvtr: {}", stem, all));
       if (writer) {
         std::vector<io::VtrPiece> pieces;
         for (int r = 0; r < ex->size(); ++r) pieces.push_back({slabs[static_cast<std::size_t>(r)].begin, slabs[static_cast<std::size_t>(r)].end, pieceName(r)});
@@ -589,6 +594,21 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     say(fmt::format("{} MPI ranks: this rank steps cells {} to {} of {} along axis 0", ex->size(), part.begin, part.end - 1, g.cells(0)));
   }
   const long long steps_before = rs->stats().steps;
+  // Output times at or before the run mesh's first state (the start, or an early time that ran on
+  // its own block past them) are taken now, at that state's time, which the outputs record.
+  for (; st.next_profile < deck.output.profile_times_s.size() && deck.output.profile_times_s[st.next_profile] <= rs->time(); ++st.next_profile) {
+    if (rs->time() > 0.0)
+      say(fmt::format("output.profile_times_s: {:g} s is within the early time; the profile is taken at the map time, {:.6g} s",
+                      deck.output.profile_times_s[st.next_profile], rs->time()));
+    st.profile_times.push_back(rs->time());
+    st.profiles.push_back(profileNow());
+  }
+  for (; st.next_field < deck.output.field_times_s.size() && deck.output.field_times_s[st.next_field] <= rs->time(); ++st.next_field) {
+    if (rs->time() > 0.0)
+      say(fmt::format("output.field_times_s: {:g} s is within the early time; the snapshot is taken at the map time, {:.6g} s",
+                      deck.output.field_times_s[st.next_field], rs->time()));
+    writeField();
+  }
   while (rs->time() < t_end * (1.0 - 1e-12)) {
     // land exactly on output times, the checkpoint time and the end
     double stop = std::min(t_end, st.next_history + h_interval);
@@ -808,6 +828,25 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
 
 bool processAlive(long pid) { return pid > 0 && (::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM); }
 
+// Clears the staging folders that dead runs into the same place left and makes this run's: an
+// empty string, or why it cannot (said as bad input, naming the folder).
+std::string makeStage(const fs::path& parent, const std::string& prefix, const fs::path& stage, const std::string& out_dir) {
+  std::error_code ec;
+  if (fs::is_directory(parent, ec))
+    for (const auto& entry : fs::directory_iterator(parent, ec)) {
+      const std::string name = entry.path().filename().string();
+      if (name.rfind(prefix, 0) != 0) continue;
+      char* end = nullptr;
+      const long pid = std::strtol(name.c_str() + prefix.size(), &end, 10);
+      if (end && *end == '\0' && !processAlive(pid)) fs::remove_all(entry.path(), ec);
+    }
+  fs::remove_all(stage, ec);
+  ec.clear();
+  fs::create_directories(parent, ec);
+  if (!ec) fs::create_directory(stage, ec);
+  return ec ? fmt::format("cannot create the run folder '{}': {}", out_dir, ec.message()) : std::string();
+}
+
 }  // namespace
 
 // A run folder is written as one unit: the run writes into a hidden staging folder beside it
@@ -830,31 +869,35 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
   prefix.append(out.filename().string()).append(".staging-");
   std::string old_name(1, '.');
   old_name.append(out.filename().string()).append(".old-").append(std::to_string(static_cast<long>(::getpid())));
-  // (only rank 0 clears and makes folders: a rank on another node would find rank 0's process dead)
-  if (opt.exchange && opt.exchange->rank() != 0) return runStaged(deck, opt, parent / (prefix + std::to_string(stage_pid)));
-  std::error_code ec;
-  if (fs::is_directory(parent, ec))
-    for (const auto& entry : fs::directory_iterator(parent, ec)) {
-      const std::string name = entry.path().filename().string();
-      if (name.rfind(prefix, 0) != 0) continue;
-      char* end = nullptr;
-      const long pid = std::strtol(name.c_str() + prefix.size(), &end, 10);
-      if (end && *end == '\0' && !processAlive(pid)) fs::remove_all(entry.path(), ec);
-    }
   const fs::path stage = parent / (prefix + std::to_string(stage_pid));
-  fs::remove_all(stage, ec);
-  // A folder that cannot be made is bad input (exit 2), said in words, before the run starts.
-  ec.clear();
-  fs::create_directories(parent, ec);
-  if (!ec) fs::create_directory(stage, ec);
-  if (ec) throw InputError("out", fmt::format("cannot create the run folder '{}': {}", opt.out_dir, ec.message()));
+  if (opt.exchange && opt.exchange->size() > 1) {
+    // Only rank 0 clears and makes folders (a rank on another node would find rank 0's process
+    // dead); every rank writes its pieces of the field snapshots into the staging folder, so every
+    // rank must see it: checked before the run starts, bad input (exit 2) if one cannot.
+    auto& ex = *opt.exchange;
+    std::string made;
+    if (ex.rank() == 0) made = makeStage(parent, prefix, stage, opt.out_dir);
+    if (const std::string why = parallel::gatherText(ex, made); !why.empty()) throw InputError("out", why);
+    std::error_code ec;
+    const bool sees = fs::is_directory(stage, ec);
+    const std::string blind = parallel::gatherText(ex, sees ? std::string() : std::to_string(ex.rank()) + " ");
+    if (!blind.empty()) {
+      if (ex.rank() == 0) fs::remove_all(stage, ec);
+      throw InputError("out", fmt::format("'{}' must be on a file system every rank sees: rank(s) {}cannot see {}", opt.out_dir, blind, stage.string()));
+    }
+    if (ex.rank() != 0) return runStaged(deck, opt, stage);
+  } else if (const std::string why = makeStage(parent, prefix, stage, opt.out_dir); !why.empty()) {
+    throw InputError("out", why);
+  }
   RunResult res;
   try {
     res = runStaged(deck, opt, stage);
   } catch (...) {
+    std::error_code ec;
     fs::remove_all(stage, ec);
     throw;
   }
+  std::error_code ec;
   if (fs::exists(out)) {
     const fs::path old = parent / old_name;
     fs::remove_all(old, ec);

@@ -27,8 +27,8 @@ ranks 3 "${flat[@]}" --out f3 > f3.out 2>/dev/null
 check "2D: 2 ranks as 1 process ($(grep impulse f1.out | xargs))" "same f1 f2"
 check "2D: 3 ranks as 1 process" "same f1 f3"
 check "2D: summary.json records the ranks" "grep -q '\"ranks\": 3' f3/summary.json"
-check "2D fields: 3 pieces joined are the one process's snapshot ($(python3 "$pieces_match" f1/fields/field_0001.vtr f3/fields/field_0001.pvtr))" \
-  "python3 '$pieces_match' f1/fields/field_0000.vtr f3/fields/field_0000.pvtr >/dev/null && python3 '$pieces_match' f1/fields/field_0001.vtr f3/fields/field_0001.pvtr >/dev/null"
+check "2D fields: 2 and 3 pieces joined are the one process's snapshot ($(python3 "$pieces_match" f1/fields/field_0001.vtr f3/fields/field_0001.pvtr))" \
+  "for r in 2 3; do for i in 0 1; do python3 '$pieces_match' f1/fields/field_000\$i.vtr f\$r/fields/field_000\$i.pvtr >/dev/null || exit 1; done; done"
 check "fields.pvd lists each snapshot's index at its time" "grep -q 'timestep=\"0.001\" file=\"fields/field_0001.pvtr\"' f2/fields.pvd && [[ \$(ls f2/fields | wc -l) -eq 6 ]]"
 check "ranks other than 0 write nothing beside the run folders ($(ls | tr '\n' ' '))" "[[ \$(ls | grep -cv -e '^f[123]\$' -e '^f[123].out\$') -eq 0 ]]"
 v=(run emi-v120-7 --cell-size 60 --set end_time_s=0.0005 --set 'output.field_times_s=[0.0005]' --no-plot --quiet)
@@ -43,9 +43,21 @@ ranks 2 "${cover[@]}" --set end_time_s=0.0005 --checkpoint-at 0.00025 --out c > 
 ranks 3 "${cover[@]}" --set end_time_s=0.001 --restart c/checkpoint.bin --out r3 > r3.out 2>/dev/null
 check "a checkpoint of 2 ranks restarts on 1 process as the uninterrupted run" "cmp -s u/history.csv r1/history.csv"
 check "...and on 3 ranks" "cmp -s u/history.csv r3/history.csv"
-check "...whose folder holds the 2 ranks' snapshots before the checkpoint and its own after, each listed" \
+check "...on 1 process: its folder holds the 2 ranks' snapshot (index and pieces) and its own .vtr, each listed" \
+  "grep -q 'fields/field_0000.pvtr' r1/fields.pvd && grep -q 'fields/field_0001.vtr' r1/fields.pvd && [[ -s r1/fields/field_0000_p0001.vtr && -s r1/fields/field_0001.vtr ]]"
+check "...on 3 ranks: its folder holds the 2 ranks' snapshots before the checkpoint and its own after, each listed" \
   "grep -o 'fields/field_[0-9]*.pvtr' r3/fields.pvd | while read f; do [[ -s r3/\$f ]] || exit 1; for p in \$(grep -o 'Source=\"[^\"]*' r3/\$f | cut -d'\"' -f2); do [[ -s r3/fields/\$p ]] || exit 1; done; done \
    && [[ \$(grep -c pvtr r3/fields.pvd) -ge 2 ]]"
+# A rank that cannot write its piece (here a file size limit on rank 1 alone): every rank stops, the
+# cause said once with the rank that met it, no run folder and nothing staged left.
+cat > limited.sh <<'EOF2'
+#!/usr/bin/env bash
+trap '' XFSZ; ulimit -f 2; exec "$@"
+EOF2
+chmod +x limited.sh
+err=$("$mpiexec" --oversubscribe -np 1 "$ejecta" "${flat[@]}" --out nospace : -np 1 ./limited.sh "$ejecta" "${flat[@]}" --out nospace 2>&1 >/dev/null); rc=$?
+check "a piece that cannot be written: exit 1, the cause said once, nothing left ($(grep -m1 'ejecta:' <<< "$err"))" \
+  "[[ $rc -eq 1 ]] && [[ \$(grep -c 'could not write the pieces' <<< \"\$err\") -eq 1 ]] && grep -q 'rank 1: ' <<< \"\$err\" && [[ ! -e nospace ]] && [[ -z \$(ls -A | grep staging) ]]"
 err=$(ranks 2 run --set mesh.cell_size_m=-1 --out bad 2>&1 >/dev/null); rc=$?
 check "bad input on ranks: exit 2, said once" "[[ $rc -eq 2 ]] && [[ \$(grep -c 'mesh.cell_size_m' <<< \"\$err\") -eq 1 ]] && [[ ! -e bad ]]"
 err=$(ranks 2 soil --json 2>&1 >/dev/null); rc=$?

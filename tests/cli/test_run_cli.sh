@@ -25,6 +25,24 @@ import json; e = json.load(open(\"a/summary.json\"))[\"early_time\"]
 assert e[\"used\"] and e[\"cells_per_charge_height\"] >= 8 and e[\"map_time_s\"] > 0, e'"
 check "no temporary files left" "[[ -z \$(find . -name '.*tmp*') ]]"
 
+# A material's name is written into the snapshot's XML as it is, whatever it holds (escaped).
+"$ejecta" run "${common[@]}" --set 'soil.0.name="sand <wet> & \"x\""' --no-plot --out xml-name > /dev/null 2>&1
+check "a soil named with XML's own characters: the snapshot parses and names it" "python3 -c '
+import xml.etree.ElementTree as ET
+names = [a.get(\"Name\") for a in ET.parse(\"xml-name/fields/field_0000.vtr\").getroot().iter(\"DataArray\")]
+assert \"alpha_sand <wet> & \\\"x\\\"\" in names, names'"
+
+# Output times the early time ran past (its block is not the run mesh) are taken at the map time,
+# said so, and recorded at that time (they stopped the run with a negative time step before).
+"$ejecta" run "${common[@]}" --set 'output.field_times_s=[0.000001,0.0004]' --set 'output.profile_times_s=[0.000001,0.0005]' --no-plot \
+  --out early-out > /dev/null 2> early-out.err
+rc=$?
+map_t=$(python3 -c 'import json; print("{:.9g}".format(json.load(open("early-out/summary.json"))["early_time"]["map_time_s"]))' 2>/dev/null)
+check "outputs within the early time: exit 0 ($(tail -1 early-out.err)), taken at the map time ($map_t s) and said" \
+  "[[ $rc -eq 0 ]] && grep -q 'timestep=\"$map_t\" file=\"fields/field_0000.vtr\"' early-out/fields.pvd && [[ -s early-out/fields/field_0000.vtr ]] \
+   && head -1 early-out/surface_profiles.csv | grep -q '^r_m,z_m@t' && grep -q 'field_times_s: 1e-06 s is within the early time' early-out.err \
+   && grep -q 'profile_times_s: 1e-06 s is within the early time' early-out.err"
+
 "$ejecta" run "${common[@]}" --restart a/checkpoint.bin --out b --no-plot > b.txt 2> b.err
 check "restart exits 0 ($(tail -1 b.err))" "[[ $? -eq 0 ]]"
 check "restart: history bit for bit" "cmp -s a/history.csv b/history.csv"

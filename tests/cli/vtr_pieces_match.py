@@ -48,6 +48,8 @@ def main(whole_path, index_path):
         ext, coords, arrays = read_vtr(os.path.join(os.path.dirname(index_path), p.get("Source")))
         assert ext == pext, f"{p.get('Source')}: extent {ext} against the index's {pext}"
         assert coords[1:] == wcoords[1:], "the other axes' faces are the whole's"
+        if xfaces:
+            assert coords[0][0] == xfaces[-1], f"{p.get('Source')} starts at face {coords[0][0]}, its neighbour ends at {xfaces[-1]}"
         xfaces += coords[0] if not xfaces else coords[0][1:]
         assert [a[:3] for a in arrays] == [a[:3] for a in warrays]
         for name, _, comp, values in arrays:

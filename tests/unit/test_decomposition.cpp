@@ -6,10 +6,13 @@
 
 #include <cmath>
 #include <exception>
+#include <string>
 #include <thread>
+#include <vector>
 
 #include "core/error.hpp"
 #include "../common/decomposition_case.hpp"
+#include "parallel/exchange.hpp"
 #include "parallel/threads.hpp"
 
 #ifdef _OPENMP
@@ -131,3 +134,23 @@ TEST(Decomposition, FiveUnevenSlabsStepBitForBitAsTheWhole) { splitMatchesWhole(
 TEST(Decomposition, ThreeSlabsOfA3DVPlateStepBitForBitAsTheWhole) { splitMatchesWhole(3, 3, 60); }
 
 }  // namespace
+
+// The words of a failure some blocks met reach every block, in rank order, so that all stop and
+// one says it (`ejecta run`'s field pieces, the staging folder's check).
+TEST(Decomposition, EveryBlockGetsTheOthersFailuresInWordsInRankOrder) {
+  const int parts = 3;
+  parallel::ThreadTeam team(parts);
+  const std::vector<std::string> mine{"", "rank 1: disk full; \"quoted\" \xC3\xA9", "rank 2: no"};
+  std::vector<std::string> got(parts), none(parts);
+  std::vector<std::thread> threads;
+  for (int r = 0; r < parts; ++r)
+    threads.emplace_back([&, r] {
+      got[static_cast<std::size_t>(r)] = parallel::gatherText(team.member(r), mine[static_cast<std::size_t>(r)]);
+      none[static_cast<std::size_t>(r)] = parallel::gatherText(team.member(r), "");
+    });
+  for (auto& t : threads) t.join();
+  for (int r = 0; r < parts; ++r) {
+    EXPECT_EQ(got[static_cast<std::size_t>(r)], mine[1] + "; " + mine[2]) << "block " << r;
+    EXPECT_EQ(none[static_cast<std::size_t>(r)], "") << "block " << r;
+  }
+}
