@@ -80,7 +80,7 @@ Solver::Solver(mesh::Grid grid, std::vector<materials::Material> materials, Solv
 // ------------------------------------------------------------------------------------------------
 // Set-up
 
-void Solver::paint(int mat, const std::function<bool(const Vec3&)>& inside, double rho, double e, Vec3 u, int sub) {
+void Solver::paint(int mat, const std::function<bool(const Vec3&)>& inside, double rho, double e, Vec3 u, int sub, Over over) {
   if (mat < 0 || mat >= materialCount()) throw InputError("material", fmt::format("index {} out of range", mat));
   if (!(rho > 0.0) || !std::isfinite(rho))
     throw InputError(fmt::format("material.{}.density", mats_[static_cast<std::size_t>(mat)].name), fmt::format("{:g} kg/m3 must be > 0", rho));
@@ -104,13 +104,23 @@ void Solver::paint(int mat, const std::function<bool(const Vec3&)>& inside, doub
         const double f = all > 0.0 ? in / all : 0.0;
         if (f <= 0.0) continue;
         const std::size_t cell = grid_.index(i, j, k);
-        for (std::size_t q = 0; q < fields_.size(); ++q) {
-          fields_[q].alpha[cell] *= (1.0 - f);
-          // a material painted over is cleared, as the sweep clears one that leaves a cell: where a
-          // material's fraction is zero, so are its energy, history and stress
-          if (fields_[q].alpha[cell] == 0.0 && q != static_cast<std::size_t>(mat)) fields_[q].clearCell(cell);
+        auto& background = fields_[0].alpha[cell];
+        double added = f;
+        // Disjoint regions' shares of a cell, each a quotient, may sum an ulp or so past one: the
+        // background left is then all taken.
+        if (over == Over::background && mat != 0 && f <= background + 1e-12) {
+          added = std::min(f, background);
+          background -= added;   // where the cell held the background alone, the same bits as in proportion
+          if (background == 0.0) fields_[0].clearCell(cell);
+        } else {
+          for (std::size_t q = 0; q < fields_.size(); ++q) {
+            fields_[q].alpha[cell] *= (1.0 - f);
+            // a material painted over is cleared, as the sweep clears one that leaves a cell: where
+            // a material's fraction is zero, so are its energy, history and stress
+            if (fields_[q].alpha[cell] == 0.0 && q != static_cast<std::size_t>(mat)) fields_[q].clearCell(cell);
+          }
         }
-        F.alpha[cell] += f;
+        F.alpha[cell] += added;
         F.rho[cell] = rho;
         F.e[cell] = e;
         F.h0[cell] = 0.0;

@@ -154,9 +154,13 @@ class Solver {
 
   // --- set-up ---------------------------------------------------------------------------------
   // Fills the region `inside` (sampled `sub` times per axis in each cell, volume weighted) with
-  // material `mat` at density rho, specific internal energy e and velocity u; the materials
-  // already there give way in proportion. Call for the background first.
-  void paint(int mat, const std::function<bool(const Vec3&)>& inside, double rho, double e, Vec3 u = {}, int sub = 4);
+  // material `mat` at density rho, specific internal energy e and velocity u. Call for the
+  // background (material 0) first. What gives way: every material already there in proportion
+  // (`everything`: a region painted over others, a charge in its soil), or the background alone
+  // (`background`: regions that do not overlap one another, such as soil layers, so that a cell
+  // cut by the boundary between two layers holds the two and no background).
+  enum class Over { everything, background };
+  void paint(int mat, const std::function<bool(const Vec3&)>& inside, double rho, double e, Vec3 u = {}, int sub = 4, Over over = Over::everything);
   void setVelocity(std::size_t cell, Vec3 u);
   void setSpecificEnergy(int mat, std::size_t cell, double e);
   // Direct access for set-up code that builds states cell by cell (initial conditions only).

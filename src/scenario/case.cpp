@@ -103,7 +103,7 @@ Case buildCase(const Deck& deck, const FineBlock* block) {
     const auto& l = deck.soil[i];
     const int k = static_cast<int>(2 + i);
     s.paint(k, [&l, &rz](const hydro::Vec3& x) { const auto p = rz(x); return p[1] < l.top_m && p[1] >= l.bottom_m && (l.radius_m <= 0.0 || p[0] < l.radius_m); },
-            mats[static_cast<std::size_t>(k)].referenceDensity(), 0.0);
+            mats[static_cast<std::size_t>(k)].referenceDensity(), 0.0, {}, 4, hydro::Solver::Over::background);
   }
   const auto& ch = cs.charge;
   if (backfill_mat >= 0) {

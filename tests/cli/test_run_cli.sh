@@ -137,6 +137,18 @@ sed 's/^bottom_m = -0.85/bottom_m = -0.30/' "$(dirname "$ejecta")/../../decks/em
 printf '\n[[soil]]\nname = "lower"\nwet_density_kg_m3 = 1370.0\nmoisture = 0.07\ntop_m = -0.2\nbottom_m = -0.85\nradius_m = 0.315\n' >> two.toml
 err=$("$ejecta" run two.toml --out c 2>&1 >/dev/null)
 check "overlapping soil layers: exit 2 naming them" "[[ $? -eq 2 ]] && grep -q 'overlaps soil.0' <<< \"\$err\""
+# The same sand as two layers meeting at -0.31 m (a cell cut between them): the same soil mass as one
+# layer, no air below the ground (the lower layer gave way to the air, not to the upper layer).
+sed 's/^bottom_m = -0.85/bottom_m = -0.31/' "$(dirname "$ejecta")/../../decks/emi-flat-7.toml" > split.toml
+printf '\n[[soil]]\nname = "lower"\nwet_density_kg_m3 = 1370.0\nmoisture = 0.07\ntop_m = -0.31\nbottom_m = -0.85\nradius_m = 0.315\n' >> split.toml
+layers=(--cell-size 40 --set end_time_s=0.00002 --set early.enabled=false --set 'output.field_times_s=[0.00002]' --no-plot --quiet)
+"$ejecta" run "$(dirname "$ejecta")/../../decks/emi-flat-7.toml" "${layers[@]}" --out one-layer > /dev/null 2>&1
+"$ejecta" run split.toml "${layers[@]}" --out two-layers > /dev/null 2>&1
+check "two layers of one sand hold the one layer's soil mass at the start (to 1e-12)" "python3 -c '
+import csv
+a, b = (next(csv.DictReader(open(f + \"/history.csv\"))) for f in (\"one-layer\", \"two-layers\"))
+ma, mb = float(a[\"mass_soil_kg\"]), float(b[\"mass_soil_kg\"])
+assert ma > 0 and abs(ma - mb) <= 1e-12 * ma, (ma, mb)'"
 err=$("$ejecta" run no-such-deck --out c 2>&1 >/dev/null)
 check "missing deck: exit 2" "[[ $? -eq 2 ]] && grep -q deck <<< \"\$err\""
 check "nothing written by the failures" "[[ ! -e c ]]"
