@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include <fmt/format.h>
+#include <sys/stat.h>
 #include <sys/types.h>
 #include <unistd.h>
 #include <nlohmann/json.hpp>
@@ -342,6 +343,19 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     if (opt.checkpoint_at_s > 0.0 && !(opt.checkpoint_at_s > s.time()))
       throw InputError("checkpoint-at", fmt::format("{:g} s is not after the checkpoint's time, {:g} s", opt.checkpoint_at_s, s.time()));
     say(fmt::format("restarted from {} at t = {:.6g} s", opt.restart, s.time()));
+    // The output times are this deck's (a restart may change them): those at or before the
+    // checkpoint's time were the earlier run's to take; the snapshots and profiles it took stay.
+    const double t0 = s.time();
+    auto firstAfter = [t0](const std::vector<double>& times) {
+      std::size_t i = 0;
+      while (i < times.size() && t0 >= times[i] * (1.0 - 1e-12)) ++i;
+      return i;
+    };
+    st.next_field = firstAfter(deck.output.field_times_s);
+    st.next_profile = firstAfter(deck.output.profile_times_s);
+    // The checkpoint is kept in the new folder, which holds the whole run then (and a checkpoint in
+    // the folder this run replaces, or in an interrupted run's staging folder, is not lost).
+    if (writer && opt.checkpoint_at_s <= 0.0) fs::copy_file(opt.restart, out / "checkpoint.bin", fs::copy_options::overwrite_existing);
   }
   if (writer) fs::create_directories(out / "fields");
   if (writer && !opt.restart.empty()) {
@@ -466,7 +480,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     st.gauges.push_back(gr);
   };
   auto writeField = [&]() {
-    const std::string stem = fmt::format("field_{:04d}", st.next_field);
+    const std::string stem = fmt::format("field_{:04d}", st.field_times.size());   // numbered as taken
     if (!slab) {
       if (writer) io::writeFileAtomically(out / "fields" / (stem + ".vtr"), [&](std::ostream& os) { io::writeVtr(os, s); });
     } else {
@@ -648,7 +662,9 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
       putState(payload, st);
       if (writer) io::writeCheckpointFile((out / "checkpoint.bin").string(), checkpointHeader(deck, t), payload.str());
       st.checkpoint_written = true;
-      say(fmt::format("wrote checkpoint at t = {:.6g} s", t));
+      say(fmt::format("wrote checkpoint at t = {:.6g} s: {} (checkpoint.bin in the run folder when the run ends; restart from this path if "
+                      "the run is interrupted before)",
+                      t, (out / "checkpoint.bin").string()));
     }
     const auto now = std::chrono::steady_clock::now();
     if (opt.progress && writer && std::chrono::duration<double>(now - last_progress).count() > 2.0) {
@@ -830,12 +846,16 @@ bool processAlive(long pid) { return pid > 0 && (::kill(static_cast<pid_t>(pid),
 
 // Clears the staging folders that dead runs into the same place left and makes this run's: an
 // empty string, or why it cannot (said as bad input, naming the folder).
-std::string makeStage(const fs::path& parent, const std::string& prefix, const fs::path& stage, const std::string& out_dir) {
+std::string makeStage(const fs::path& parent, const std::string& prefix, const fs::path& stage, const std::string& out_dir,
+                      const std::string& restart) {
   std::error_code ec;
+  const fs::path input = restart.empty() ? fs::path() : fs::weakly_canonical(fs::path(restart), ec);
   if (fs::is_directory(parent, ec))
     for (const auto& entry : fs::directory_iterator(parent, ec)) {
       const std::string name = entry.path().filename().string();
       if (name.rfind(prefix, 0) != 0) continue;
+      // an interrupted run's checkpoint that this run restarts from stays until the run has ended
+      if (!input.empty() && fs::weakly_canonical(entry.path(), ec) == input.parent_path()) continue;
       char* end = nullptr;
       const long pid = std::strtol(name.c_str() + prefix.size(), &end, 10);
       if (end && *end == '\0' && !processAlive(pid)) fs::remove_all(entry.path(), ec);
@@ -863,6 +883,17 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
   if (out.empty() || out.filename() == "." || out.filename() == "..")
     throw InputError("out", fmt::format("'{}' does not name a folder to write", opt.out_dir));
   if (fs::exists(out) && !fs::is_directory(out)) throw InputError("out", fmt::format("'{}' exists and is not a directory", opt.out_dir));
+  // A run replaces its folder whole (by renaming): a folder of other files is not a run's to delete,
+  // and a mount point or the root cannot be renamed.
+  if (fs::is_directory(out) && !fs::is_empty(out) && !fs::exists(out / "summary.json"))
+    throw InputError("out", fmt::format("'{}' holds files and is not an ejecta run folder (no summary.json); a run replaces its folder "
+                                        "whole: name a new or empty folder, or an earlier run's",
+                                        opt.out_dir));
+  if (struct stat here{}, above{}; fs::is_directory(out) && ::stat(out.c_str(), &here) == 0 &&
+                                    ::stat((out.has_parent_path() ? out.parent_path() : fs::path(".")).c_str(), &above) == 0 &&
+                                    (here.st_dev != above.st_dev || here.st_ino == above.st_ino))
+    throw InputError("out", fmt::format("'{}' is a mount point or the root; a run replaces its folder whole by renaming: name a folder inside it",
+                                        opt.out_dir));
   const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
   // (built by append: GCC 12 warns falsely, -Wrestrict, on "." + name + "...")
   std::string prefix(1, '.');
@@ -876,7 +907,7 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
     // rank must see it: checked before the run starts, bad input (exit 2) if one cannot.
     auto& ex = *opt.exchange;
     std::string made;
-    if (ex.rank() == 0) made = makeStage(parent, prefix, stage, opt.out_dir);
+    if (ex.rank() == 0) made = makeStage(parent, prefix, stage, opt.out_dir, opt.restart);
     if (const std::string why = parallel::gatherText(ex, made); !why.empty()) throw InputError("out", why);
     std::error_code ec;
     const bool sees = fs::is_directory(stage, ec);
@@ -886,7 +917,7 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
       throw InputError("out", fmt::format("'{}' must be on a file system every rank sees: rank(s) {}cannot see {}", opt.out_dir, blind, stage.string()));
     }
     if (ex.rank() != 0) return runStaged(deck, opt, stage);
-  } else if (const std::string why = makeStage(parent, prefix, stage, opt.out_dir); !why.empty()) {
+  } else if (const std::string why = makeStage(parent, prefix, stage, opt.out_dir, opt.restart); !why.empty()) {
     throw InputError("out", why);
   }
   RunResult res;
@@ -906,6 +937,13 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
     fs::remove_all(old);
   } else {
     fs::rename(stage, out);
+  }
+  // the interrupted run's staging folder whose checkpoint this run restarted from (kept above):
+  // the checkpoint is in the new folder now
+  if (!opt.restart.empty()) {
+    const fs::path from = fs::weakly_canonical(fs::path(opt.restart), ec).parent_path();
+    if (!ec && from.filename().string().rfind(prefix, 0) == 0 && from.parent_path() == fs::weakly_canonical(parent, ec))
+      fs::remove_all(from, ec);
   }
   return res;
 }

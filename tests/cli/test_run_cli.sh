@@ -48,6 +48,25 @@ check "restart exits 0 ($(tail -1 b.err))" "[[ $? -eq 0 ]]"
 check "restart: history bit for bit" "cmp -s a/history.csv b/history.csv"
 check "restart: gauges bit for bit" "cmp -s a/gauges.csv b/gauges.csv"
 check "restart: surface profiles bit for bit" "cmp -s a/surface_profiles.csv b/surface_profiles.csv"
+check "restart: the new folder keeps the checkpoint it started from" "cmp -s a/checkpoint.bin b/checkpoint.bin"
+# A restart with other output times takes this deck's after the checkpoint (0.3 ms), numbered after
+# the snapshots the earlier run took (the old list's positions once dropped or mislabelled them).
+"$ejecta" run "${common[@]}" --set 'output.field_times_s=[0.0001,0.00045,0.0005]' --restart a/checkpoint.bin --out b2 --no-plot > /dev/null 2> b2.err
+check "restart with other output times: each after the checkpoint taken at its time ($(tail -1 b2.err))" "python3 -c '
+import re
+times = [float(t) for t in re.findall(r\"timestep=.([0-9.e-]+).\", open(\"b2/fields.pvd\").read())]
+assert times == [0.00045, 0.0005], times' && [[ -s b2/fields/field_0000.vtr && -s b2/fields/field_0001.vtr ]] && ! grep -q 'early time' b2.err"
+# An interrupted run's checkpoint, still in its staging folder, restarts into the same place: the
+# folder is not cleared first (it was, with the checkpoint in it), and goes once the run has ended.
+mkdir .i.staging-999999 && cp a/checkpoint.bin .i.staging-999999/
+"$ejecta" run "${common[@]}" --restart .i.staging-999999/checkpoint.bin --out i --no-plot > /dev/null 2> i.err
+check "restart from an interrupted run's staging folder ($(tail -1 i.err))" "[[ $? -eq 0 ]] && cmp -s a/history.csv i/history.csv && [[ -s i/checkpoint.bin && ! -e .i.staging-999999 ]]"
+# A folder of other files is not a run's to replace; a mount point cannot be renamed.
+mkdir -p notes && echo keep > notes/notes.md
+err=$("$ejecta" run "${common[@]}" --out notes 2>&1 >/dev/null)
+check "--out at a folder of other files: exit 2 naming it, the files kept" "[[ $? -eq 2 ]] && grep -q 'not an ejecta run folder' <<< \"\$err\" && [[ \$(cat notes/notes.md) == keep ]]"
+err=$("$ejecta" run "${common[@]}" --out / 2>&1 >/dev/null)
+check "--out /: exit 2 before the run" "[[ $? -eq 2 ]] && grep -q 'out' <<< \"\$err\""
 
 # A free plate moves through the mesh: how far the history's target_z_m (its underside on the mesh)
 # has risen by 10 ms is its integrated displacement (within one cell), and the EMI plate at 7%
