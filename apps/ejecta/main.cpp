@@ -116,6 +116,9 @@ int runCommand(int argc, char** argv) {
   } catch (const ejecta::InputError& e) {
     if (ejecta::cli::speaks()) std::cerr << "ejecta: error: " << e.what() << '\n';
     return 2;
+  } catch (const ejecta::Interrupted& e) {
+    if (ejecta::cli::speaks()) std::cerr << "ejecta: " << e.what() << '\n';
+    return 128 + e.signal();
   } catch (const ejecta::RunError& e) {
     std::cerr << "ejecta: run stopped: " << ejecta::cli::rankPrefix() << e.what() << '\n';
     return 3;

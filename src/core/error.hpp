@@ -29,4 +29,15 @@ class SharedFailure : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A run stopped by a signal (SIGINT, SIGTERM, SIGHUP): the front end exits 128 + the signal, as
+// the shell would for a process the signal killed.
+class Interrupted : public std::runtime_error {
+ public:
+  Interrupted(int signal, const std::string& message) : std::runtime_error(message), signal_(signal) {}
+  int signal() const { return signal_; }
+
+ private:
+  int signal_;
+};
+
 }  // namespace ejecta

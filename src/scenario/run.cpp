@@ -1,6 +1,7 @@
 #include "scenario/run.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
@@ -13,6 +14,7 @@
 #include <optional>
 #include <regex>
 #include <map>
+#include <mutex>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -314,6 +316,38 @@ std::string csvRow(const std::vector<double>& v) {
   return s + "\n";
 }
 
+// SIGINT / SIGTERM / SIGHUP: the run stops at the next step and cleans up (runCase), rather than
+// dying with its staging folder half written.
+volatile std::sig_atomic_t interrupted_by = 0;
+extern "C" void onInterrupt(int sig) { interrupted_by = sig; }
+void stopIfInterrupted(double t) {
+  if (interrupted_by != 0) throw Interrupted(static_cast<int>(interrupted_by), fmt::format("interrupted by signal {} at t = {:.6g} s", static_cast<int>(interrupted_by), t));
+}
+// Installs the handlers while any run is going (`ejecta validate` runs cases on several threads)
+// and puts the previous ones back after the last.
+class InterruptGuard {
+ public:
+  InterruptGuard() {
+    const std::lock_guard<std::mutex> g(mutex_);
+    if (runs_++ > 0) return;
+    interrupted_by = 0;
+    for (std::size_t i = 0; i < kSignals.size(); ++i) previous_[i] = std::signal(kSignals[i], onInterrupt);
+  }
+  ~InterruptGuard() {
+    const std::lock_guard<std::mutex> g(mutex_);
+    if (--runs_ > 0) return;
+    for (std::size_t i = 0; i < kSignals.size(); ++i) std::signal(kSignals[i], previous_[i]);
+  }
+  InterruptGuard(const InterruptGuard&) = delete;
+  InterruptGuard& operator=(const InterruptGuard&) = delete;
+
+ private:
+  static constexpr std::array<int, 3> kSignals{SIGINT, SIGTERM, SIGHUP};
+  static inline std::mutex mutex_;
+  static inline int runs_ = 0;
+  static inline std::array<void (*)(int), 3> previous_{};
+};
+
 // Runs the case into `out`, a staging folder that runCase swaps into place when the run ends.
 RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out) {
   auto say = [&](const std::string& m) {
@@ -417,6 +451,9 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
       if (!std::isnan(v)) return v;
     return std::nan("");
   };
+  for (const auto& p : deck.output.gauges_m)   // a gauge reads the flow: in the target's cells it reads nothing
+    if (s.isBody(cellAt(g, cs.vertical, p[0], p[1])))
+      throw InputError("output.gauges_m", fmt::format("gauge ({:g}, {:g}) m lies in the target's cells; valid: a point in the flow", p[0], p[1]));
   const auto t_wall0 = std::chrono::steady_clock::now();
   auto last_progress = t_wall0;
   const double t_end = deck.end_time_s;
@@ -510,6 +547,10 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   // ---- the early time: the detonation and first expansion on a fine block, mapped onto the run mesh
   nlohmann::json early_json = {{"enabled", deck.early.enabled}, {"used", false}};
   if (const auto plan = opt.restart.empty() ? planEarly(deck, cs) : std::nullopt) {
+    if (deck.end_time_s < plan->map_time_s)
+      throw InputError("end_time_s", fmt::format("{:g} s ends within the early time, which runs to {:.6g} s on its fine block; valid: at least "
+                                                 "{:.6g} s, or early.enabled = false",
+                                                 deck.end_time_s, plan->map_time_s, plan->map_time_s));
     const auto t_early0 = std::chrono::steady_clock::now();
     // A 3D run's block is the same deck's axisymmetric case, without the target (it lies above).
     const bool onto_3d = cs.vertical == 2;
@@ -541,6 +582,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     const double static_fine = cs.plate.present && !onto_3d ? cs.symmetry * fs_.bodyLoad()[up] : 0.0;
     auto last = std::chrono::steady_clock::now();
     while (fs_.time() < plan->map_time_s * (1.0 - 1e-12)) {
+      stopIfInterrupted(fs_.time());
       const double dt = fs_.nextTimeStep(plan->map_time_s);
       if (!onto_3d) fs_.setBodyVelocity(target.wallVelocity(ts));
       fs_.step(dt);
@@ -608,6 +650,8 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     say(fmt::format("{} MPI ranks: this rank steps cells {} to {} of {} along axis 0", ex->size(), part.begin, part.end - 1, g.cells(0)));
   }
   const long long steps_before = rs->stats().steps;
+  const double t_step_from = rs->time();
+  const auto t_step0 = std::chrono::steady_clock::now();
   // Output times at or before the run mesh's first state (the start, or an early time that ran on
   // its own block past them) are taken now, at that state's time, which the outputs record.
   for (; st.next_profile < deck.output.profile_times_s.size() && deck.output.profile_times_s[st.next_profile] <= rs->time(); ++st.next_profile) {
@@ -629,6 +673,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     if (st.next_profile < deck.output.profile_times_s.size()) stop = std::min(stop, deck.output.profile_times_s[st.next_profile]);
     if (st.next_field < deck.output.field_times_s.size()) stop = std::min(stop, deck.output.field_times_s[st.next_field]);
     if (opt.checkpoint_at_s > rs->time()) stop = std::min(stop, opt.checkpoint_at_s);
+    stopIfInterrupted(rs->time());
     const double dt = rs->nextTimeStep(stop);
     rs->setBodyVelocity(target.wallVelocity(ts));
     rs->step(dt);
@@ -670,7 +715,9 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     if (opt.progress && writer && std::chrono::duration<double>(now - last_progress).count() > 2.0) {
       last_progress = now;
       const double wall = std::chrono::duration<double>(now - t_wall0).count();
-      const double left = t > 0.0 ? wall * (t_end - t) / std::max(t - (opt.restart.empty() ? 0.0 : 0.0), 1e-30) : 0.0;
+      // by the stepping's own pace (a restart starts at the checkpoint's time, a mapped run after the early time)
+      const double stepped = std::chrono::duration<double>(now - t_step0).count();
+      const double left = t > t_step_from ? stepped * (t_end - t) / (t - t_step_from) : 0.0;
       std::fprintf(stderr, "t = %.4g ms / %.4g ms, step %lld, dt %.3g s, %zu cells, wall %.1f s, left ~%.0f s, impulse %.1f N s\n", t * 1e3,
                    t_end * 1e3, static_cast<long long>(rs->stats().steps), dt, g.interiorCells(), wall, left, ts.impulse);
     }
@@ -874,6 +921,7 @@ std::string makeStage(const fs::path& parent, const std::string& prefix, const f
 // interrupted run leaves the previous complete folder as it was (and a killed one's staging
 // folder is removed by the next run into the same place).
 RunResult runCase(const Deck& deck, const RunOptions& opt) {
+  const InterruptGuard guard;
   // On ranks the staging folder is named by rank 0's process: every rank writes its pieces of the
   // field snapshots there (rank 0 makes it and writes the rest).
   long stage_pid = static_cast<long>(::getpid());
@@ -923,6 +971,11 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
   RunResult res;
   try {
     res = runStaged(deck, opt, stage);
+  } catch (const Interrupted&) {
+    // what it wrote goes, unless it holds a checkpoint to restart from (the log named its path)
+    std::error_code ec;
+    if (!fs::exists(stage / "checkpoint.bin", ec)) fs::remove_all(stage, ec);
+    throw;
   } catch (...) {
     std::error_code ec;
     fs::remove_all(stage, ec);

@@ -190,6 +190,23 @@ check "a killed rerun leaves the old folder intact" "cmp -s a/summary.json a-sum
 "$ejecta" run "${common[@]}" --set 'output.field_times_s=[]' --out a --no-plot > /dev/null 2> a2.err
 check "a rerun replaces the folder whole ($(tail -1 a2.err))" "[[ $? -eq 0 && -s a/summary.json && ! -e a/checkpoint.bin && ! -e a/fields/field_0000.vtr && ! -e a/plots.png ]]"
 check "no staging folders left" "[[ -z \$(ls -A | grep staging) ]]"
+# Ctrl-C (SIGINT) or a scheduler's SIGTERM: the run stops at its next step, exits 128 + the signal,
+# and removes what it had staged; the previous folder stays as it was.
+cp a/summary.json a-summary.json
+"$ejecta" run "${common[@]}" --set end_time_s=0.01 --out a > /dev/null 2> int.err &
+pid=$!
+sleep 4
+kill -INT $pid 2> /dev/null
+wait $pid
+rc=$?
+check "SIGINT: exit 130 ($(tail -1 int.err)), nothing staged left, the old folder intact" \
+  "[[ $rc -eq 130 ]] && [[ -z \$(ls -A | grep staging) ]] && cmp -s a/summary.json a-summary.json"
+err=$("$ejecta" run "${common[@]}" --set end_time_s=0.000001 --out c 2>&1 >/dev/null)
+check "an end time within the early time: exit 2 naming end_time_s, nothing written" "[[ $? -eq 2 ]] && grep -q 'end_time_s.*early time' <<< \"\$err\" && [[ ! -e c ]]"
+err=$("$ejecta" run "${common[@]}" --set 'output.gauges_m=[[0.0, 0.13]]' --out c 2>&1 >/dev/null)
+check "a gauge in the plate: exit 2 naming output.gauges_m, nothing written" "[[ $? -eq 2 ]] && grep -q 'output.gauges_m.*target' <<< \"\$err\" && [[ ! -e c ]]"
+err=$("$ejecta" run "${common[@]}" --set ' end_time_s = 0.0002 ' --no-plot --out spaced 2>&1 >/dev/null)
+check "--set 'KEY = VALUE' with spaces, as TOML writes it" "[[ $? -eq 0 ]] && grep -q '\"end_time_s\": 0.0002' spaced/summary.json"
 
 # ejecta sweep: a full factorial over one deck
 "$ejecta" sweep emi-flat-7 --cell-size 25 --set end_time_s=0.0003 --set early.cells_per_charge_height=8 --vary target.standoff_m=0,0.05 --out s > s.txt 2> s.err
