@@ -79,7 +79,7 @@ std::vector<Key> makeKeys() {
       text("", "geometry", top<&Deck::geometry>, {"axisymmetric", "3d-quarter"},
            "2D r-z, or 3D quarter symmetry (x, y >= 0 symmetry planes, z up; radii in the deck are from the z axis)"),
       flag("", "gravity", top<&Deck::gravity>, "body force -9.81 m/s2 on the flow and the plate"),
-      number("", "end_time_s", top<&Deck::end_time_s>, "s", {0.0, 1.0, true}, "simulated time"),
+      number("", "end_time_s", top<&Deck::end_time_s>, "s", {0.0, 1.0, true}, "simulated time (not within the early time: at least its map time)"),
       number("", "cfl", top<&Deck::cfl>, "-", {0.05, 0.9}, "Courant number of each sweep"),
       number("", "fragment_fold", top<&Deck::fragment_fold>, "-", {0.0, 1e-8},
              "a material under this fraction of a cell's volume is folded into the cell's other materials (mass, momentum and energy kept; "
@@ -170,7 +170,7 @@ std::vector<Key> makeKeys() {
       list("output", "field_times_s", in<&Deck::output, &OutputSpec::field_times_s>, KeyType::NumberList, "s", {0.0, kInf, true, true},
            "VTK snapshot times, increasing (times within the early time are taken at its map time, which fields.pvd records)"),
       list("output", "gauges_m", in<&Deck::output, &OutputSpec::gauges_m>, KeyType::PointList, "m", any_length,
-           "pressure gauges, a list of [r, z] points inside the domain"),
+           "pressure gauges, a list of [r, z] points inside the domain, in the flow (not in the target)"),
       number("output", "surface_soil_fraction", in<&Deck::output, &OutputSpec::surface_soil_fraction>, "-", {0.01, 1.0},
              "soil volume fraction that marks the soil surface in profiles and histories (DRES decks: 0.1, the envelope a film sees)"),
   };
