@@ -12,7 +12,6 @@
 #include <functional>
 #include <fstream>
 #include <optional>
-#include <regex>
 #include <map>
 #include <mutex>
 #include <sstream>
@@ -316,6 +315,34 @@ std::string csvRow(const std::vector<double>& v) {
   return s + "\n";
 }
 
+// A snapshot's file name: field_NNNN.vtr (whole), field_NNNN.pvtr (an index) or field_NNNN_pRRRR.vtr
+// (a piece); anything else is not one.
+struct SnapshotFile {
+  std::size_t number = 0;
+  bool piece = false;
+};
+std::optional<SnapshotFile> snapshotFile(const std::string& name) {
+  auto digits = [&](std::size_t& at) {
+    const std::size_t from = at;
+    while (at < name.size() && name[at] >= '0' && name[at] <= '9') ++at;
+    return at > from && at - from <= 9;
+  };
+  if (name.rfind("field_", 0) != 0) return std::nullopt;
+  std::size_t at = 6;
+  const std::size_t from = at;
+  if (!digits(at)) return std::nullopt;
+  SnapshotFile f;
+  f.number = std::stoul(name.substr(from, at - from));
+  if (name.compare(at, 2, "_p") == 0) {
+    at += 2;
+    if (!digits(at)) return std::nullopt;
+    f.piece = true;
+  }
+  const std::string rest = name.substr(at);
+  if (rest == ".vtr" || (!f.piece && rest == ".pvtr")) return f;
+  return std::nullopt;
+}
+
 // SIGINT / SIGTERM / SIGHUP: the run stops at the next step and cleans up (runCase), rather than
 // dying with its staging folder half written.
 volatile std::sig_atomic_t interrupted_by = 0;
@@ -398,17 +425,13 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     // A snapshot is one .vtr, or on ranks a .pvtr index and its pieces (field_NNNN_pRRRR.vtr): the
     // pieces are copied with their index only.
     const fs::path from = fs::path(opt.restart).parent_path() / "fields";
-    const std::regex snapshot_file(R"(field_(\d+)(_p\d+)?\.(p?vtr))");
     std::error_code ec;
     if (fs::is_directory(from, ec))
       for (const auto& entry : fs::directory_iterator(from, ec)) {
         const std::string name = entry.path().filename().string();
-        std::smatch m;
-        if (!std::regex_match(name, m, snapshot_file) || !entry.is_regular_file(ec)) continue;
-        const std::string number = m[1].str();
-        if (number.size() > 9 || std::stoul(number) >= st.field_times.size()) continue;
-        const bool piece = m[2].matched;
-        if (piece && (m[3].str() != "vtr" || !fs::is_regular_file(from / ("field_" + number + ".pvtr"), ec))) continue;
+        const auto file = snapshotFile(name);
+        if (!file || file->number >= st.field_times.size() || !entry.is_regular_file(ec)) continue;
+        if (file->piece && !fs::is_regular_file(from / fmt::format("field_{:04d}.pvtr", file->number), ec)) continue;
         fs::copy_file(entry.path(), out / "fields" / name, fs::copy_options::overwrite_existing);
       }
   }
