@@ -303,10 +303,11 @@ void applyOverride(toml::table& root, const std::string& ov) {
   const auto eq = ov.find('=');
   if (eq == std::string::npos || eq == 0) throw InputError("--set", fmt::format("'{}' is not KEY=VALUE", ov));
   // "key = value" as TOML writes it: the spaces around the key are not part of it
-  std::string path = ov.substr(0, eq);
-  const std::string value = ov.substr(eq + 1);
-  path.erase(0, path.find_first_not_of(" \t"));
-  path.erase(path.find_last_not_of(" \t") + 1);
+  std::string path = ov.substr(0, eq), value = ov.substr(eq + 1);
+  for (auto* text : {&path, &value}) {
+    text->erase(0, text->find_first_not_of(" \t"));
+    text->erase(text->find_last_not_of(" \t") + 1);
+  }
   if (path.empty()) throw InputError("--set", fmt::format("'{}' is not KEY=VALUE", ov));
   toml::table parsed;
   const auto v = parsedValue(parsed, path, value);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
@@ -17,7 +18,6 @@
 #include <sstream>
 
 #include <fmt/format.h>
-#include <sys/stat.h>
 #include <sys/types.h>
 #include <unistd.h>
 #include <nlohmann/json.hpp>
@@ -345,10 +345,13 @@ std::optional<SnapshotFile> snapshotFile(const std::string& name) {
 
 // SIGINT / SIGTERM / SIGHUP: the run stops at the next step and cleans up (runCase), rather than
 // dying with its staging folder half written.
-volatile std::sig_atomic_t interrupted_by = 0;
-extern "C" void onInterrupt(int sig) { interrupted_by = sig; }
+// The flag is cleared by no run: once a signal came, every later check in the process stops (a sweep
+// or validate does not start its next case).
+std::atomic<int> interrupted_by{0};
+static_assert(std::atomic<int>::is_always_lock_free, "the signal handler stores into it");
+extern "C" void onInterrupt(int sig) { interrupted_by.store(sig); }
 void stopIfInterrupted(double t) {
-  if (interrupted_by != 0) throw Interrupted(static_cast<int>(interrupted_by), fmt::format("interrupted by signal {} at t = {:.6g} s", static_cast<int>(interrupted_by), t));
+  if (const int sig = interrupted_by.load(); sig != 0) throw Interrupted(sig, fmt::format("interrupted by signal {} at t = {:.6g} s", sig, t));
 }
 // Installs the handlers while any run is going (`ejecta validate` runs cases on several threads)
 // and puts the previous ones back after the last.
@@ -357,13 +360,19 @@ class InterruptGuard {
   InterruptGuard() {
     const std::lock_guard<std::mutex> g(mutex_);
     if (runs_++ > 0) return;
-    interrupted_by = 0;
-    for (std::size_t i = 0; i < kSignals.size(); ++i) previous_[i] = std::signal(kSignals[i], onInterrupt);
+    for (std::size_t i = 0; i < kSignals.size(); ++i) {
+      struct sigaction now{};
+      now.sa_handler = onInterrupt;
+      sigemptyset(&now.sa_mask);
+      ::sigaction(kSignals[i], &now, &previous_[i]);
+      // a signal the run was started ignoring stays ignored (nohup's SIGHUP, a script's background job's SIGINT)
+      if (previous_[i].sa_handler == SIG_IGN) ::sigaction(kSignals[i], &previous_[i], nullptr);
+    }
   }
   ~InterruptGuard() {
     const std::lock_guard<std::mutex> g(mutex_);
     if (--runs_ > 0) return;
-    for (std::size_t i = 0; i < kSignals.size(); ++i) std::signal(kSignals[i], previous_[i]);
+    for (std::size_t i = 0; i < kSignals.size(); ++i) ::sigaction(kSignals[i], &previous_[i], nullptr);
   }
   InterruptGuard(const InterruptGuard&) = delete;
   InterruptGuard& operator=(const InterruptGuard&) = delete;
@@ -372,7 +381,7 @@ class InterruptGuard {
   static constexpr std::array<int, 3> kSignals{SIGINT, SIGTERM, SIGHUP};
   static inline std::mutex mutex_;
   static inline int runs_ = 0;
-  static inline std::array<void (*)(int), 3> previous_{};
+  static inline std::array<struct sigaction, 3> previous_{};
 };
 
 // Runs the case into `out`, a staging folder that runCase swaps into place when the run ends.
@@ -414,9 +423,6 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     };
     st.next_field = firstAfter(deck.output.field_times_s);
     st.next_profile = firstAfter(deck.output.profile_times_s);
-    // The checkpoint is kept in the new folder, which holds the whole run then (and a checkpoint in
-    // the folder this run replaces, or in an interrupted run's staging folder, is not lost).
-    if (writer && opt.checkpoint_at_s <= 0.0) fs::copy_file(opt.restart, out / "checkpoint.bin", fs::copy_options::overwrite_existing);
   }
   if (writer) fs::create_directories(out / "fields");
   if (writer && !opt.restart.empty()) {
@@ -797,6 +803,12 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
           break;
         }
     io::writeFileAtomically(out / "fields.pvd", [&](std::ostream& os) { io::writePvd(os, snaps); });
+    // A restart that writes no checkpoint of its own keeps the one it started from, so that the new
+    // folder holds the whole run (and a checkpoint in the folder this run replaces, or in an
+    // interrupted run's staging folder, is not lost). Copied at the end: an interrupted restart
+    // holds no checkpoint of its own and keeps nothing staged.
+    if (!opt.restart.empty() && !st.checkpoint_written)
+      fs::copy_file(opt.restart, out / "checkpoint.bin", fs::copy_options::overwrite_existing);
   }
   nlohmann::json sum;
   sum["ejecta_version"] = build_info::version;
@@ -917,8 +929,16 @@ bool processAlive(long pid) { return pid > 0 && (::kill(static_cast<pid_t>(pid),
 // Clears the staging folders that dead runs into the same place left and makes this run's: an
 // empty string, or why it cannot (said as bad input, naming the folder).
 std::string makeStage(const fs::path& parent, const std::string& prefix, const fs::path& stage, const std::string& out_dir,
-                      const std::string& restart) {
+                      const std::string& restart, const fs::path& out, const fs::path& old) {
   std::error_code ec;
+  // The folder is replaced by renaming at the end: tried now, so that a folder that cannot be (a
+  // mount point) is said before the run rather than after it.
+  if (fs::exists(out, ec)) {
+    fs::rename(out, old, ec);
+    if (ec) return fmt::format("'{}' cannot be replaced ({}; a mount point?): name a folder inside it", out_dir, ec.message());
+    fs::rename(old, out, ec);
+    if (ec) return fmt::format("'{}' could not be put back from {}: {}", out_dir, old.string(), ec.message());
+  }
   const fs::path input = restart.empty() ? fs::path() : fs::weakly_canonical(fs::path(restart), ec);
   if (fs::is_directory(parent, ec))
     for (const auto& entry : fs::directory_iterator(parent, ec)) {
@@ -960,11 +980,7 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
     throw InputError("out", fmt::format("'{}' holds files and is not an ejecta run folder (no summary.json); a run replaces its folder "
                                         "whole: name a new or empty folder, or an earlier run's",
                                         opt.out_dir));
-  if (struct stat here{}, above{}; fs::is_directory(out) && ::stat(out.c_str(), &here) == 0 &&
-                                    ::stat((out.has_parent_path() ? out.parent_path() : fs::path(".")).c_str(), &above) == 0 &&
-                                    (here.st_dev != above.st_dev || here.st_ino == above.st_ino))
-    throw InputError("out", fmt::format("'{}' is a mount point or the root; a run replaces its folder whole by renaming: name a folder inside it",
-                                        opt.out_dir));
+  if (out == out.root_path()) throw InputError("out", fmt::format("'{}' is the root; a run replaces its folder whole: name a folder", opt.out_dir));
   const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
   // (built by append: GCC 12 warns falsely, -Wrestrict, on "." + name + "...")
   std::string prefix(1, '.');
@@ -978,7 +994,7 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
     // rank must see it: checked before the run starts, bad input (exit 2) if one cannot.
     auto& ex = *opt.exchange;
     std::string made;
-    if (ex.rank() == 0) made = makeStage(parent, prefix, stage, opt.out_dir, opt.restart);
+    if (ex.rank() == 0) made = makeStage(parent, prefix, stage, opt.out_dir, opt.restart, out, parent / old_name);
     if (const std::string why = parallel::gatherText(ex, made); !why.empty()) throw InputError("out", why);
     std::error_code ec;
     const bool sees = fs::is_directory(stage, ec);
@@ -988,7 +1004,7 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
       throw InputError("out", fmt::format("'{}' must be on a file system every rank sees: rank(s) {}cannot see {}", opt.out_dir, blind, stage.string()));
     }
     if (ex.rank() != 0) return runStaged(deck, opt, stage);
-  } else if (const std::string why = makeStage(parent, prefix, stage, opt.out_dir, opt.restart); !why.empty()) {
+  } else if (const std::string why = makeStage(parent, prefix, stage, opt.out_dir, opt.restart, out, parent / old_name); !why.empty()) {
     throw InputError("out", why);
   }
   RunResult res;
@@ -1002,7 +1018,15 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
   } catch (...) {
     std::error_code ec;
     fs::remove_all(stage, ec);
+    if (const int sig = interrupted_by.load(); sig != 0)   // a signal that failed the outputs (the plot script's child got it too)
+      throw Interrupted(sig, fmt::format("interrupted by signal {} while writing the run folder", sig));
     throw;
+  }
+  // a signal after the last step: the run is not finished as asked, and goes as any interrupted run
+  if (const int sig = interrupted_by.load(); sig != 0) {
+    std::error_code ec;
+    fs::remove_all(stage, ec);
+    throw Interrupted(sig, fmt::format("interrupted by signal {} while writing the run folder", sig));
   }
   std::error_code ec;
   if (fs::exists(out)) {
@@ -1018,7 +1042,11 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
   // the checkpoint is in the new folder now
   if (!opt.restart.empty()) {
     const fs::path from = fs::weakly_canonical(fs::path(opt.restart), ec).parent_path();
-    if (!ec && from.filename().string().rfind(prefix, 0) == 0 && from.parent_path() == fs::weakly_canonical(parent, ec))
+    const std::string name = from.filename().string();
+    char* end = nullptr;
+    const long pid = name.rfind(prefix, 0) == 0 ? std::strtol(name.c_str() + prefix.size(), &end, 10) : 0;
+    // (not the folder of a run still going: its log named the checkpoint as it wrote it)
+    if (!ec && pid > 0 && end && *end == '\0' && !processAlive(pid) && from.parent_path() == fs::weakly_canonical(parent, ec))
       fs::remove_all(from, ec);
   }
   return res;

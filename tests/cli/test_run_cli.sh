@@ -43,8 +43,8 @@ check "outputs within the early time: exit 0 ($(tail -1 early-out.err)), taken a
    && head -1 early-out/surface_profiles.csv | grep -q '^r_m,z_m@t' && grep -q 'field_times_s: 1e-06 s is within the early time' early-out.err \
    && grep -q 'profile_times_s: 1e-06 s is within the early time' early-out.err"
 
-"$ejecta" run "${common[@]}" --restart a/checkpoint.bin --out b --no-plot > b.txt 2> b.err
-check "restart exits 0 ($(tail -1 b.err))" "[[ $? -eq 0 ]]"
+"$ejecta" run "${common[@]}" --restart a/checkpoint.bin --out b --no-plot > b.txt 2> b.err; rc=$?
+check "restart exits 0 ($(tail -1 b.err))" "[[ $rc -eq 0 ]]"
 check "restart: history bit for bit" "cmp -s a/history.csv b/history.csv"
 check "restart: gauges bit for bit" "cmp -s a/gauges.csv b/gauges.csv"
 check "restart: surface profiles bit for bit" "cmp -s a/surface_profiles.csv b/surface_profiles.csv"
@@ -59,8 +59,8 @@ assert times == [0.00045, 0.0005], times' && [[ -s b2/fields/field_0000.vtr && -
 # An interrupted run's checkpoint, still in its staging folder, restarts into the same place: the
 # folder is not cleared first (it was, with the checkpoint in it), and goes once the run has ended.
 mkdir .i.staging-999999 && cp a/checkpoint.bin .i.staging-999999/
-"$ejecta" run "${common[@]}" --restart .i.staging-999999/checkpoint.bin --out i --no-plot > /dev/null 2> i.err
-check "restart from an interrupted run's staging folder ($(tail -1 i.err))" "[[ $? -eq 0 ]] && cmp -s a/history.csv i/history.csv && [[ -s i/checkpoint.bin && ! -e .i.staging-999999 ]]"
+"$ejecta" run "${common[@]}" --restart .i.staging-999999/checkpoint.bin --out i --no-plot > /dev/null 2> i.err; rc=$?
+check "restart from an interrupted run's staging folder ($(tail -1 i.err))" "[[ $rc -eq 0 ]] && cmp -s a/history.csv i/history.csv && [[ -s i/checkpoint.bin && ! -e .i.staging-999999 ]]"
 # A folder of other files is not a run's to replace; a mount point cannot be renamed.
 mkdir -p notes && echo keep > notes/notes.md
 err=$("$ejecta" run "${common[@]}" --out notes 2>&1 >/dev/null)
@@ -71,8 +71,8 @@ check "--out /: exit 2 before the run" "[[ $? -eq 2 ]] && grep -q 'out' <<< \"\$
 # A free plate moves through the mesh: how far the history's target_z_m (its underside on the mesh)
 # has risen by 10 ms is its integrated displacement (within one cell), and the EMI plate at 7%
 # rises more than 5 cm.
-"$ejecta" run emi-flat-7 --cell-size 40 --set early.enabled=false --quiet --no-plot --out m > m.txt 2> m.err
-check "moving plate: run exits 0 ($(tail -1 m.err))" "[[ $? -eq 0 ]]"
+"$ejecta" run emi-flat-7 --cell-size 40 --set early.enabled=false --quiet --no-plot --out m > m.txt 2> m.err; rc=$?
+check "moving plate: run exits 0 ($(tail -1 m.err))" "[[ $rc -eq 0 ]]"
 check "moving plate: target_z_m at 10 ms is the displacement within one cell, and over 5 cm" "python3 -c '
 import csv, json
 d = json.load(open(\"m/summary.json\")); h = list(csv.DictReader(open(\"m/history.csv\")))
@@ -131,8 +131,8 @@ for f in bad/*.bin; do
   err=$("$ejecta" run "${common[@]}" --restart "$f" --out c 2>&1 >/dev/null)
   check "restart from $f: exit 2 (damaged)" "[[ $? -eq 2 ]] && grep -q 'checkpoint is damaged' <<< \"\$err\""
 done
-"$ejecta" run "${common[@]}" --restart a/checkpoint.bin --set end_time_s=0.0007 --set 'output.field_times_s=[0.00065]' --out e --no-plot > /dev/null 2> e.err
-check "restart running longer with other outputs is allowed ($(tail -1 e.err))" "[[ $? -eq 0 ]]"
+"$ejecta" run "${common[@]}" --restart a/checkpoint.bin --set end_time_s=0.0007 --set 'output.field_times_s=[0.00065]' --out e --no-plot > /dev/null 2> e.err; rc=$?
+check "restart running longer with other outputs is allowed ($(tail -1 e.err))" "[[ $rc -eq 0 ]]"
 touch plainfile
 err=$("$ejecta" run "${common[@]}" --out plainfile/run 2>&1 >/dev/null)
 check "a run folder that cannot be made: exit 2 naming --out, in words" "[[ $? -eq 2 ]] && grep -q 'out: cannot create the run folder' <<< \"\$err\" && ! grep -q 'filesystem error' <<< \"\$err\""
@@ -172,8 +172,8 @@ err=$("$ejecta" run no-such-deck --out c 2>&1 >/dev/null)
 check "missing deck: exit 2" "[[ $? -eq 2 ]] && grep -q deck <<< \"\$err\""
 check "nothing written by the failures" "[[ ! -e c ]]"
 
-"$ejecta" run dres-3cm --cell-size 10 --set end_time_s=0.0001 --set early.cells_per_charge_height=8 --quiet --no-plot --out d > /dev/null 2> d.err
-check "a case without a target runs ($(tail -1 d.err))" "[[ $? -eq 0 ]] && [[ -s d/history.csv ]]"
+"$ejecta" run dres-3cm --cell-size 10 --set end_time_s=0.0001 --set early.cells_per_charge_height=8 --quiet --no-plot --out d > /dev/null 2> d.err; rc=$?
+check "a case without a target runs ($(tail -1 d.err))" "[[ $rc -eq 0 ]] && [[ -s d/history.csv ]]"
 
 # A run folder is one unit. b (a restart) lists in fields.pvd only snapshots it holds (copied from a).
 check "restart: every snapshot fields.pvd lists is in the folder" "grep -o 'fields/field_[0-9]*.vtr' b/fields.pvd | while read f; do [[ -s b/\$f ]] || exit 1; done"
@@ -187,30 +187,39 @@ wait $pid 2> /dev/null
 check "a killed rerun leaves the old folder intact" "cmp -s a/summary.json a-summary.json && [[ -s a/checkpoint.bin && -s a/fields/field_0000.vtr ]]"
 # ...and a finished rerun replaces it whole: no stale checkpoint or snapshot of the earlier run,
 # and the killed run's staging folder is cleared
-"$ejecta" run "${common[@]}" --set 'output.field_times_s=[]' --out a --no-plot > /dev/null 2> a2.err
-check "a rerun replaces the folder whole ($(tail -1 a2.err))" "[[ $? -eq 0 && -s a/summary.json && ! -e a/checkpoint.bin && ! -e a/fields/field_0000.vtr && ! -e a/plots.png ]]"
+"$ejecta" run "${common[@]}" --set 'output.field_times_s=[]' --out a --no-plot > /dev/null 2> a2.err; rc=$?
+check "a rerun replaces the folder whole ($(tail -1 a2.err))" "[[ $rc -eq 0 && -s a/summary.json && ! -e a/checkpoint.bin && ! -e a/fields/field_0000.vtr && ! -e a/plots.png ]]"
 check "no staging folders left" "[[ -z \$(ls -A | grep staging) ]]"
-# Ctrl-C (SIGINT) or a scheduler's SIGTERM: the run stops at its next step, exits 128 + the signal,
-# and removes what it had staged; the previous folder stays as it was.
+# A scheduler's SIGTERM (or Ctrl-C's SIGINT): the run stops at its next step, exits 128 + the signal,
+# and removes what it had staged; the previous folder stays as it was. (A script's background job
+# starts with SIGINT ignored, and a run keeps ignoring what it was started ignoring: TERM here.)
 cp a/summary.json a-summary.json
 "$ejecta" run "${common[@]}" --set end_time_s=0.01 --out a > /dev/null 2> int.err &
 pid=$!
 sleep 4
-kill -INT $pid 2> /dev/null
+kill -TERM $pid 2> /dev/null
 wait $pid
 rc=$?
-check "SIGINT: exit 130 ($(tail -1 int.err)), nothing staged left, the old folder intact" \
-  "[[ $rc -eq 130 ]] && [[ -z \$(ls -A | grep staging) ]] && cmp -s a/summary.json a-summary.json"
+check "SIGTERM: exit 143 ($(tail -1 int.err)), nothing staged left, the old folder intact" \
+  "[[ $rc -eq 143 ]] && [[ -z \$(ls -A | grep staging) ]] && cmp -s a/summary.json a-summary.json"
+# Under nohup a hang-up is ignored, as nohup asks: the run goes on to its end.
+nohup "$ejecta" run "${common[@]}" --set end_time_s=0.002 --no-plot --out hup > /dev/null 2> hup.err &
+pid=$!
+sleep 2
+kill -HUP $pid 2> /dev/null
+wait $pid
+rc=$?
+check "nohup: SIGHUP ignored, the run ends well (rc $rc)" "[[ $rc -eq 0 ]] && [[ -s hup/summary.json ]]"
 err=$("$ejecta" run "${common[@]}" --set end_time_s=0.000001 --out c 2>&1 >/dev/null)
 check "an end time within the early time: exit 2 naming end_time_s, nothing written" "[[ $? -eq 2 ]] && grep -q 'end_time_s.*early time' <<< \"\$err\" && [[ ! -e c ]]"
 err=$("$ejecta" run "${common[@]}" --set 'output.gauges_m=[[0.0, 0.13]]' --out c 2>&1 >/dev/null)
 check "a gauge in the plate: exit 2 naming output.gauges_m, nothing written" "[[ $? -eq 2 ]] && grep -q 'output.gauges_m.*target' <<< \"\$err\" && [[ ! -e c ]]"
-err=$("$ejecta" run "${common[@]}" --set ' end_time_s = 0.0002 ' --no-plot --out spaced 2>&1 >/dev/null)
-check "--set 'KEY = VALUE' with spaces, as TOML writes it" "[[ $? -eq 0 ]] && grep -q '\"end_time_s\": 0.0002' spaced/summary.json"
+err=$("$ejecta" run "${common[@]}" --set ' end_time_s = 0.0002 ' --set 'title = spaced title ' --no-plot --out spaced 2>&1 >/dev/null)
+check "--set 'KEY = VALUE' with spaces, as TOML writes it" "[[ $? -eq 0 ]] && grep -q '\"end_time_s\": 0.0002' spaced/summary.json && grep -q '\"title\": \"spaced title\"' spaced/summary.json"
 
 # ejecta sweep: a full factorial over one deck
-"$ejecta" sweep emi-flat-7 --cell-size 25 --set end_time_s=0.0003 --set early.cells_per_charge_height=8 --vary target.standoff_m=0,0.05 --out s > s.txt 2> s.err
-check "sweep exits 0 ($(tail -1 s.err))" "[[ $? -eq 0 ]]"
+"$ejecta" sweep emi-flat-7 --cell-size 25 --set end_time_s=0.0003 --set early.cells_per_charge_height=8 --vary target.standoff_m=0,0.05 --out s > s.txt 2> s.err; rc=$?
+check "sweep exits 0 ($(tail -1 s.err))" "[[ $rc -eq 0 ]]"
 check "sweep.csv has both cases" "[[ \$(wc -l < s/sweep.csv) -eq 3 ]] && [[ -s s/sweep.json && -s s/sweep.png ]]"
 err=$("$ejecta" sweep emi-flat-7 --vary target.nonsense=1,2 --out t 2>&1 >/dev/null)
 check "sweep: bad key exits 2 naming it, nothing written" "[[ $? -eq 2 ]] && grep -q target.nonsense <<< \"\$err\" && [[ ! -e t ]]"
