@@ -975,7 +975,7 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
     throw InputError("out", fmt::format("'{}' does not name a folder to write", opt.out_dir));
   if (fs::exists(out) && !fs::is_directory(out)) throw InputError("out", fmt::format("'{}' exists and is not a directory", opt.out_dir));
   // A run replaces its folder whole (by renaming): a folder of other files is not a run's to delete,
-  // and a mount point or the root cannot be renamed.
+  // and the root cannot be renamed (nor a mount point: makeStage tries the rename).
   if (fs::is_directory(out) && !fs::is_empty(out) && !fs::exists(out / "summary.json"))
     throw InputError("out", fmt::format("'{}' holds files and is not an ejecta run folder (no summary.json); a run replaces its folder "
                                         "whole: name a new or empty folder, or an earlier run's",
@@ -998,10 +998,10 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
     if (const std::string why = parallel::gatherText(ex, made); !why.empty()) throw InputError("out", why);
     std::error_code ec;
     const bool sees = fs::is_directory(stage, ec);
-    const std::string blind = parallel::gatherText(ex, sees ? std::string() : std::to_string(ex.rank()) + " ");
+    const std::string blind = parallel::gatherText(ex, sees ? std::string() : std::to_string(ex.rank()));
     if (!blind.empty()) {
       if (ex.rank() == 0) fs::remove_all(stage, ec);
-      throw InputError("out", fmt::format("'{}' must be on a file system every rank sees: rank(s) {}cannot see {}", opt.out_dir, blind, stage.string()));
+      throw InputError("out", fmt::format("'{}' must be on a file system every rank sees: rank(s) {} cannot see {}", opt.out_dir, blind, stage.string()));
     }
     if (ex.rank() != 0) return runStaged(deck, opt, stage);
   } else if (const std::string why = makeStage(parent, prefix, stage, opt.out_dir, opt.restart, out, parent / old_name); !why.empty()) {
