@@ -194,7 +194,7 @@ check "no staging folders left" "[[ -z \$(ls -A | grep staging) ]]"
 # and removes what it had staged; the previous folder stays as it was. (A script's background job
 # starts with SIGINT ignored, and a run keeps ignoring what it was started ignoring: TERM here.)
 cp a/summary.json a-summary.json
-"$ejecta" run "${common[@]}" --set end_time_s=0.01 --out a > /dev/null 2> int.err &
+"$ejecta" run "${common[@]}" --set end_time_s=0.05 --out a > /dev/null 2> int.err &
 pid=$!
 sleep 4
 kill -TERM $pid 2> /dev/null
