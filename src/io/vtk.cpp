@@ -2,24 +2,12 @@
 
 #include <fmt/format.h>
 
+#include "io/report.hpp"   // escapeHtml: the same escaping an XML attribute needs
+
 namespace ejecta::io {
 
 namespace {
 
-// A name in an XML attribute: a soil may be named "sand <wet> & dry".
-std::string xmlEscaped(const std::string& text) {
-  std::string out;
-  for (const char ch : text) {
-    switch (ch) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += ch;
-    }
-  }
-  return out;
-}
 // The arrays a snapshot holds, in file order: a piece and its index (.pvtr) name them alike.
 struct ArrayInfo {
   std::string name, type;
@@ -27,12 +15,16 @@ struct ArrayInfo {
 };
 std::vector<ArrayInfo> cellArrays(const hydro::Solver& s) {
   std::vector<ArrayInfo> a;
-  for (const auto& m : s.materials()) a.push_back({xmlEscaped("alpha_" + m.name), "Float64"});
+  for (const auto& m : s.materials()) a.push_back({escapeHtml("alpha_" + m.name), "Float64"});
   a.push_back({"density", "Float64"});
   a.push_back({"pressure", "Float64"});
   a.push_back({"velocity", "Float64", 3});
   a.push_back({"target", "UInt8"});
   return a;
+}
+// type, name and components, as a DataArray (a piece) and a PDataArray (the index) both declare them
+std::string attributes(const ArrayInfo& a) {
+  return fmt::format("type=\"{}\" Name=\"{}\"{}", a.type, a.name, a.components > 1 ? fmt::format(" NumberOfComponents=\"{}\"", a.components) : std::string());
 }
 const char* axisName(const mesh::Grid& g, int d) { return d == 0 ? (g.axisymmetric() ? "r" : "x") : (d == 1 ? (g.axisymmetric() ? "z" : "y") : "z3"); }
 
@@ -64,8 +56,7 @@ void writeVtr(std::ostream& os, const hydro::Solver& s) {
   };
   const auto arrays = cellArrays(s);
   auto open = [&](const ArrayInfo& a) {
-    os << fmt::format("<DataArray type=\"{}\" Name=\"{}\"{} format=\"ascii\">\n", a.type, a.name,
-                      a.components > 1 ? fmt::format(" NumberOfComponents=\"{}\"", a.components) : std::string());
+    os << fmt::format("<DataArray {} format=\"ascii\">\n", attributes(a));
   };
   std::size_t next = 0;
   for (int m = 0; m < s.materialCount(); ++m) {
@@ -96,8 +87,7 @@ void writePvtr(std::ostream& os, const hydro::Solver& slab, const std::vector<Vt
   for (int d = 0; d < 3; ++d) os << fmt::format("<PDataArray type=\"Float64\" Name=\"{}\"/>\n", axisName(g, d));
   os << "</PCoordinates>\n<PCellData Scalars=\"density\" Vectors=\"velocity\">\n";
   for (const auto& a : cellArrays(slab))
-    os << fmt::format("<PDataArray type=\"{}\" Name=\"{}\"{}/>\n", a.type, a.name,
-                      a.components > 1 ? fmt::format(" NumberOfComponents=\"{}\"", a.components) : std::string());
+    os << fmt::format("<PDataArray {}/>\n", attributes(a));
   os << "</PCellData>\n";
   for (const auto& p : pieces) os << fmt::format("<Piece Extent=\"{} {} 0 {} 0 {}\" Source=\"{}\"/>\n", p.begin, p.end, n1, n2, p.file);
   os << "</PRectilinearGrid>\n</VTKFile>\n";

@@ -1007,6 +1007,12 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
   } else if (const std::string why = makeStage(parent, prefix, stage, opt.out_dir, opt.restart, out, parent / old_name); !why.empty()) {
     throw InputError("out", why);
   }
+  // a signal that came while the run wrote its outputs: the run goes as any interrupted run
+  auto interruptedWhileWriting = [&stage](int sig) {
+    std::error_code ec;
+    fs::remove_all(stage, ec);
+    return Interrupted(sig, fmt::format("interrupted by signal {} while writing the run folder", sig));
+  };
   RunResult res;
   try {
     res = runStaged(deck, opt, stage);
@@ -1016,18 +1022,13 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
     if (!fs::exists(stage / "checkpoint.bin", ec)) fs::remove_all(stage, ec);
     throw;
   } catch (...) {
+    // (a signal may have failed the outputs: the plot script's child got it too)
+    if (const int sig = interrupted_by.load(); sig != 0) throw interruptedWhileWriting(sig);
     std::error_code ec;
     fs::remove_all(stage, ec);
-    if (const int sig = interrupted_by.load(); sig != 0)   // a signal that failed the outputs (the plot script's child got it too)
-      throw Interrupted(sig, fmt::format("interrupted by signal {} while writing the run folder", sig));
     throw;
   }
-  // a signal after the last step: the run is not finished as asked, and goes as any interrupted run
-  if (const int sig = interrupted_by.load(); sig != 0) {
-    std::error_code ec;
-    fs::remove_all(stage, ec);
-    throw Interrupted(sig, fmt::format("interrupted by signal {} while writing the run folder", sig));
-  }
+  if (const int sig = interrupted_by.load(); sig != 0) throw interruptedWhileWriting(sig);   // after the last step
   std::error_code ec;
   if (fs::exists(out)) {
     const fs::path old = parent / old_name;
