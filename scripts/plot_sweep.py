@@ -24,9 +24,13 @@ def main(data_path, out_path):
     first = keys[0]
     groups = {}
     for r in d["rows"]:
+        if "impulse_Ns" not in r:  # a case that failed or has not run yet
+            continue
         rest = ", ".join(f"{k}={r['values'][k]}" for k in keys[1:])
         groups.setdefault(rest, []).append((number(r["values"][first]), r["impulse_Ns"]))
     fig, ax = plt.subplots(figsize=(7, 4.8))
+    if not groups:
+        sys.exit("no case has a result to plot")
     for label, pts in groups.items():
         xs = [p[0] for p in pts]
         ys = [p[1] for p in pts]

@@ -301,6 +301,20 @@ std::optional<EarlyPlan> planEarly(const Deck& deck, const Case& cs) {
   return p;
 }
 
+// The checks of a case's set-up that need its mesh (loadDeck made the deck's own): gauges in the
+// flow, and a fresh run's end after its early time. buildCase has checked the charge's place.
+void checkSetUp(const Deck& deck, const Case& cs, bool fresh) {
+  const auto& g = cs.solver->grid();
+  for (const auto& p : deck.output.gauges_m)   // a gauge reads the flow: in the target's cells it reads nothing
+    if (cs.solver->isBody(cellAt(g, cs.vertical, p[0], p[1])))
+      throw InputError("output.gauges_m", fmt::format("gauge ({:g}, {:g}) m lies in the target's cells; valid: a point in the flow", p[0], p[1]));
+  if (!fresh) return;
+  if (const auto plan = planEarly(deck, cs); plan && deck.end_time_s < plan->map_time_s)
+    throw InputError("end_time_s", fmt::format("{:g} s ends within the early time, which runs to {:.6g} s on its fine block; valid: at least "
+                                               "{:.6g} s, or early.enabled = false",
+                                               deck.end_time_s, plan->map_time_s, plan->map_time_s));
+}
+
 int threadCount() {
 #ifdef _OPENMP
   return omp_get_max_threads();
@@ -392,6 +406,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   if (opt.checkpoint_at_s > 0.0 && !(opt.checkpoint_at_s < deck.end_time_s))
     throw InputError("checkpoint-at", fmt::format("{:g} s is out of range; valid (0, end_time_s = {:g}) s", opt.checkpoint_at_s, deck.end_time_s));
   Case cs = buildCase(deck);   // validates everything before the run folder is touched
+  checkSetUp(deck, cs, opt.restart.empty());
   auto& s = *cs.solver;
   const auto& g = s.grid();
   const auto up = static_cast<std::size_t>(cs.vertical);
@@ -480,9 +495,6 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
       if (!std::isnan(v)) return v;
     return std::nan("");
   };
-  for (const auto& p : deck.output.gauges_m)   // a gauge reads the flow: in the target's cells it reads nothing
-    if (s.isBody(cellAt(g, cs.vertical, p[0], p[1])))
-      throw InputError("output.gauges_m", fmt::format("gauge ({:g}, {:g}) m lies in the target's cells; valid: a point in the flow", p[0], p[1]));
   const auto t_wall0 = std::chrono::steady_clock::now();
   auto last_progress = t_wall0;
   const double t_end = deck.end_time_s;
@@ -576,10 +588,6 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   // ---- the early time: the detonation and first expansion on a fine block, mapped onto the run mesh
   nlohmann::json early_json = {{"enabled", deck.early.enabled}, {"used", false}};
   if (const auto plan = opt.restart.empty() ? planEarly(deck, cs) : std::nullopt) {
-    if (deck.end_time_s < plan->map_time_s)
-      throw InputError("end_time_s", fmt::format("{:g} s ends within the early time, which runs to {:.6g} s on its fine block; valid: at least "
-                                                 "{:.6g} s, or early.enabled = false",
-                                                 deck.end_time_s, plan->map_time_s, plan->map_time_s));
     const auto t_early0 = std::chrono::steady_clock::now();
     // A 3D run's block is the same deck's axisymmetric case, without the target (it lies above).
     const bool onto_3d = cs.vertical == 2;
@@ -963,6 +971,11 @@ std::string makeStage(const fs::path& parent, const std::string& prefix, const f
 // (.NAME.staging-PID), which replaces the folder only when the run has ended well. A failed or
 // interrupted run leaves the previous complete folder as it was (and a killed one's staging
 // folder is removed by the next run into the same place).
+void checkCase(const Deck& deck) {
+  const Case cs = buildCase(deck);
+  checkSetUp(deck, cs, true);
+}
+
 RunResult runCase(const Deck& deck, const RunOptions& opt) {
   const InterruptGuard guard;
   // On ranks the staging folder is named by rank 0's process: every rank writes its pieces of the

@@ -50,4 +50,9 @@ struct RunResult {
 
 RunResult runCase(const Deck& deck, const RunOptions& opt);
 
+// What runCase checks of a fresh run before its first step, without running it: the deck's
+// geometry on its mesh (the charge inside the uniform core, gauges in the flow, the end after the
+// early time). Throws InputError naming the field. A study checks all its cases with it first.
+void checkCase(const Deck& deck);
+
 }  // namespace ejecta::scenario

@@ -223,5 +223,41 @@ check "sweep exits 0 ($(tail -1 s.err))" "[[ $rc -eq 0 ]]"
 check "sweep.csv has both cases" "[[ \$(wc -l < s/sweep.csv) -eq 3 ]] && [[ -s s/sweep.json && -s s/sweep.png ]]"
 err=$("$ejecta" sweep emi-flat-7 --vary target.nonsense=1,2 --out t 2>&1 >/dev/null)
 check "sweep: bad key exits 2 naming it, nothing written" "[[ $? -eq 2 ]] && grep -q target.nonsense <<< \"\$err\" && [[ ! -e t ]]"
+sw=(emi-flat-7 --cell-size 25 --set early.cells_per_charge_height=8)
+# a list value: its commas are its own; the CSV quotes it
+"$ejecta" sweep "${sw[@]}" --set end_time_s=0.0003 --vary 'output.gauges_m=[[0.0, -0.01]],[[0.1, -0.01], [0.2, -0.01]]' --no-plot --out l > /dev/null 2> l.err; rc=$?
+check "sweep: list values split at the top level only, quoted in sweep.csv ($(tail -1 l.err))" \
+  "[[ $rc -eq 0 ]] && grep -q '^1,\"\[\[0.1, -0.01\], \[0.2, -0.01\]\]\",' l/sweep.csv && [[ \$(head -1 l/case_001/gauges.csv | tr ',' '\n' | wc -l) -eq 3 ]]"
+# every case's geometry checked before the first runs: a gauge in the plate in the second case
+err=$("$ejecta" sweep "${sw[@]}" --set end_time_s=0.0003 --vary 'output.gauges_m=[[0.1, -0.01]],[[0.1, 0.13]]' --out gg 2>&1 >/dev/null)
+check "sweep: a case's geometry refused before any runs, exit 2 naming the field and the case" \
+  "[[ $? -eq 2 ]] && grep -q 'output.gauges_m.*case 1: output.gauges_m=' <<< \"\$err\" && [[ ! -e gg ]]"
+err=$("$ejecta" sweep emi-flat-7 --vary cfl=0.3,0.4 --set cfl=0.2 --out gg 2>&1 >/dev/null)
+check "sweep: a key both set and varied, exit 2" "[[ $? -eq 2 ]] && grep -q 'cfl is both set and varied' <<< \"\$err\" && [[ ! -e gg ]]"
+mkdir stranger && touch stranger/notes.txt
+err=$("$ejecta" sweep emi-flat-7 --vary cfl=0.3 --out stranger 2>&1 >/dev/null)
+check "sweep: a folder of other files refused, exit 2" "[[ $? -eq 2 ]] && grep -q 'not an ejecta sweep folder' <<< \"\$err\" && [[ \$(ls stranger) == notes.txt ]]"
+# interrupted between cases' steps: what finished stays in the index, --reuse continues
+"$ejecta" sweep "${sw[@]}" --set end_time_s=0.003 --vary target.standoff_m=0,0.05,0.1 --no-plot --out si > /dev/null 2> si.err &
+pid=$!
+for _ in $(seq 300); do grep -q 'case 2/3' si.err && break; sleep 0.1; done
+kill -TERM $pid 2> /dev/null
+wait $pid
+rc=$?
+check "sweep: SIGTERM exits 143, the index says interrupted with case 0 done" \
+  "[[ $rc -eq 143 ]] && grep -q '\"status\": \"interrupted\"' si/sweep.json && grep -q ',done$' si/sweep.csv && grep -q '^2,.*,not run$' si/sweep.csv && [[ -z \$(ls -A si | grep staging) ]]"
+"$ejecta" sweep "${sw[@]}" --set end_time_s=0.003 --vary target.standoff_m=0,0.05,0.1 --no-plot --out si --reuse > i2.txt 2> i2.err; rc=$?
+check "sweep --reuse continues: case 0 reused, the others run ($(tail -1 i2.err))" \
+  "[[ $rc -eq 0 ]] && [[ \$(grep -c ',reused$' si/sweep.csv) -eq 1 && \$(grep -c ',done$' si/sweep.csv) -eq 2 ]] && grep -q '\"status\": \"complete\"' si/sweep.json"
+# a case that fails as it runs is recorded; the others run; the exit code is the failure's
+rm -r si/case_002 && mkdir si/case_002 && touch si/case_002/stray
+"$ejecta" sweep "${sw[@]}" --set end_time_s=0.003 --vary target.standoff_m=0,0.05,0.1 --no-plot --out si --reuse > /dev/null 2> f.err; rc=$?
+check "sweep: a failed case recorded, the rest kept, exit 2 ($(tail -1 f.err))" \
+  "[[ $rc -eq 2 ]] && grep -q '^2,.*,failed$' si/sweep.csv && grep -q 'not an ejecta run folder' si/sweep.json && [[ \$(grep -c ',reused$' si/sweep.csv) -eq 2 ]]"
+# a smaller study into the same folder: the larger one's case folders go
+rm -r si/case_002
+"$ejecta" sweep "${sw[@]}" --set end_time_s=0.003 --vary target.standoff_m=0,0.05,0.1 --no-plot --out si --reuse > /dev/null 2>&1
+"$ejecta" sweep "${sw[@]}" --set end_time_s=0.003 --vary target.standoff_m=0,0.05 --no-plot --out si --reuse > /dev/null 2>&1; rc=$?
+check "sweep: an earlier study's extra case folders removed" "[[ $rc -eq 0 ]] && [[ \$(ls si | tr '\n' ' ') == 'case_000 case_001 sweep.csv sweep.json ' ]]"
 
 finish
