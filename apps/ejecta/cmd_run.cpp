@@ -29,6 +29,7 @@ struct RunCliOptions {
   std::string cell_size_mm;
   std::vector<std::string> sets;
   std::string checkpoint_at;
+  std::string checkpoint_every_min;
   std::string restart;
   bool quiet = false;
   bool plot = true;
@@ -59,6 +60,11 @@ int runRun(const RunCliOptions& o) {
   if (!o.checkpoint_at.empty()) {
     ro.checkpoint_at_s = parseNumber("checkpoint-at", o.checkpoint_at);
     if (!(ro.checkpoint_at_s > 0.0)) throw InputError("checkpoint-at", fmt::format("{:g} s is out of range; valid (0, end_time_s)", ro.checkpoint_at_s));
+  }
+  if (!o.checkpoint_every_min.empty()) {
+    const double minutes = parseNumber("checkpoint-every", o.checkpoint_every_min);
+    if (!(minutes > 0.0 && minutes < 1e6)) throw InputError("checkpoint-every", fmt::format("{:g} min is out of range; valid (0, 1e6) min", minutes));
+    ro.checkpoint_every_s = 60.0 * minutes;
   }
   ro.restart = o.restart;
   ro.progress = !o.quiet;
@@ -104,6 +110,9 @@ Action addRunCommand(CLI::App& app) {
   sub->add_option("--cell-size", o->cell_size_mm, "Core cell size, mm (overrides mesh.cell_size_m)");
   sub->add_option("--set", o->sets, "Override a deck field: KEY=VALUE (dotted key, TOML value), repeatable");
   sub->add_option("--checkpoint-at", o->checkpoint_at, "Write <out>/checkpoint.bin when the run reaches this time, s");
+  sub->add_option("--checkpoint-every", o->checkpoint_every_min,
+                  "Write <out>/checkpoint.bin every MIN minutes of wall time, and when a signal stops the run\n"
+                  "(the results are those of a run without it)");
   sub->add_option("--restart", o->restart, "Continue from a checkpoint written by the same deck");
   sub->add_option("--help-deck", o->help_deck, "Print every deck key (type, unit, valid range, default, meaning) and exit; FORMAT text or markdown")
       ->expected(0, 1)

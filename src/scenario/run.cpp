@@ -364,8 +364,8 @@ std::optional<SnapshotFile> snapshotFile(const std::string& name) {
 std::atomic<int> interrupted_by{0};
 static_assert(std::atomic<int>::is_always_lock_free, "the signal handler stores into it");
 extern "C" void onInterrupt(int sig) { interrupted_by.store(sig); }
-void stopIfInterrupted(double t) {
-  if (const int sig = interrupted_by.load(); sig != 0) throw Interrupted(sig, fmt::format("interrupted by signal {} at t = {:.6g} s", sig, t));
+void stopIfInterrupted(double t, int sig = interrupted_by.load()) {
+  if (sig != 0) throw Interrupted(sig, fmt::format("interrupted by signal {} at t = {:.6g} s", sig, t));
 }
 // Installs the handlers while any run is going (`ejecta validate` runs cases on several threads)
 // and puts the previous ones back after the last.
@@ -405,6 +405,10 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   };
   if (opt.checkpoint_at_s > 0.0 && !(opt.checkpoint_at_s < deck.end_time_s))
     throw InputError("checkpoint-at", fmt::format("{:g} s is out of range; valid (0, end_time_s = {:g}) s", opt.checkpoint_at_s, deck.end_time_s));
+  if (!(opt.checkpoint_every_s >= 0.0 && opt.checkpoint_every_s < 1e9))
+    throw InputError("checkpoint-every", fmt::format("{:g} s is out of range; valid [0, 1e9) s (0: none)", opt.checkpoint_every_s));
+  if (opt.checkpoint_every_s > 0.0 && opt.checkpoint_at_s > 0.0)
+    throw InputError("checkpoint-every", "give --checkpoint-at or --checkpoint-every, not both (both write checkpoint.bin)");
   Case cs = buildCase(deck);   // validates everything before the run folder is touched
   checkSetUp(deck, cs, opt.restart.empty());
   auto& s = *cs.solver;
@@ -704,13 +708,42 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
                       deck.output.field_times_s[st.next_field], rs->time()));
     writeField();
   }
+  // The whole's state and the driver's at this step's end: one file whatever the number of ranks
+  // (a restart may use any number). Writing it changes nothing in the run.
+  auto writeCheckpoint = [&]() {
+    if (slab) s.assemble(*rs, *ex);
+    std::ostringstream payload;
+    s.writeCheckpoint(payload);
+    putState(payload, st);
+    if (writer) io::writeCheckpointFile((out / "checkpoint.bin").string(), checkpointHeader(deck, rs->time()), payload.str());
+    say(fmt::format("wrote checkpoint at t = {:.6g} s: {} (checkpoint.bin in the run folder when the run ends; restart from this path if "
+                    "the run is interrupted before)",
+                    rs->time(), (out / "checkpoint.bin").string()));
+  };
+  auto last_checkpoint = t_step0;
   while (rs->time() < t_end * (1.0 - 1e-12)) {
     // land exactly on output times, the checkpoint time and the end
     double stop = std::min(t_end, st.next_history + h_interval);
     if (st.next_profile < deck.output.profile_times_s.size()) stop = std::min(stop, deck.output.profile_times_s[st.next_profile]);
     if (st.next_field < deck.output.field_times_s.size()) stop = std::min(stop, deck.output.field_times_s[st.next_field]);
     if (opt.checkpoint_at_s > rs->time()) stop = std::min(stop, opt.checkpoint_at_s);
-    stopIfInterrupted(rs->time());
+    // Once a step, every rank takes the same decision: a signal on any rank stops them all at this
+    // step (so rank 0 is there to clean up), and rank 0's clock says when a periodic checkpoint is due.
+    int sig = interrupted_by.load();
+    bool due = opt.checkpoint_every_s > 0.0 && std::chrono::duration<double>(std::chrono::steady_clock::now() - last_checkpoint).count() >= opt.checkpoint_every_s;
+    if (ex) {
+      const auto all = ex->gatherAll({static_cast<double>(sig), due ? 1.0 : 0.0});
+      for (std::size_t r = 0; r + 1 < all.size(); r += 2) sig = std::max(sig, static_cast<int>(all[r]));
+      due = all[1] != 0.0;
+    }
+    if (sig != 0) {
+      if (opt.checkpoint_every_s > 0.0) writeCheckpoint();   // the staging folder is kept for the restart
+      stopIfInterrupted(rs->time(), sig);
+    }
+    if (due) {
+      writeCheckpoint();
+      last_checkpoint = std::chrono::steady_clock::now();
+    }
     const double dt = rs->nextTimeStep(stop);
     rs->setBodyVelocity(target.wallVelocity(ts));
     rs->step(dt);
@@ -737,16 +770,8 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
       ++st.next_field;
     }
     if (opt.checkpoint_at_s > 0.0 && !st.checkpoint_written && t >= opt.checkpoint_at_s * (1.0 - 1e-12)) {
-      // one file, whatever the number of ranks (the whole's state): a restart may use any number
-      if (slab) s.assemble(*rs, *ex);
-      std::ostringstream payload;
-      s.writeCheckpoint(payload);
-      putState(payload, st);
-      if (writer) io::writeCheckpointFile((out / "checkpoint.bin").string(), checkpointHeader(deck, t), payload.str());
+      writeCheckpoint();
       st.checkpoint_written = true;
-      say(fmt::format("wrote checkpoint at t = {:.6g} s: {} (checkpoint.bin in the run folder when the run ends; restart from this path if "
-                      "the run is interrupted before)",
-                      t, (out / "checkpoint.bin").string()));
     }
     const auto now = std::chrono::steady_clock::now();
     if (opt.progress && writer && std::chrono::duration<double>(now - last_progress).count() > 2.0) {

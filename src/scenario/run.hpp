@@ -18,6 +18,10 @@ namespace ejecta::scenario {
 struct RunOptions {
   std::string out_dir = "out/run";
   double checkpoint_at_s = -1.0;   // write checkpoint.bin when the run passes this time (< 0: never)
+  // Write checkpoint.bin every this many seconds of wall time on the run mesh, replacing the last
+  // (0: never), and when a signal stops the run: a run cut short (a scheduler's time limit, a
+  // crash) restarts from the last one. It lands no step, so the results are those of a run without it.
+  double checkpoint_every_s = 0.0;
   std::string restart;             // continue from this checkpoint
   bool progress = true;            // progress lines on stderr
   bool plot = true;

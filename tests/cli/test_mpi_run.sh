@@ -60,6 +60,24 @@ check "a piece that cannot be written: exit 1, the cause said once, nothing left
   "[[ $rc -eq 1 ]] && [[ \$(grep -c 'could not write the pieces' <<< \"\$err\") -eq 1 ]] && grep -q 'rank 1: ' <<< \"\$err\" && [[ ! -e nospace ]] && [[ -z \$(ls -A | grep staging) ]]"
 err=$(ranks 2 run --set mesh.cell_size_m=-1 --out bad 2>&1 >/dev/null); rc=$?
 check "bad input on ranks: exit 2, said once" "[[ $rc -eq 2 ]] && [[ \$(grep -c 'mesh.cell_size_m' <<< \"\$err\") -eq 1 ]] && [[ ! -e bad ]]"
+# A signal on one rank that is not rank 0 stops every rank at the same step; with --checkpoint-every
+# they write a checkpoint first, and a restart on 1 process gives the uninterrupted run's history.
+long=(run emi-flat-22 --cell-size 40 --set end_time_s=0.02 --no-plot --quiet)
+"$ejecta" "${long[@]}" --out l1 > l1.out 2>/dev/null
+ranks 2 "${long[@]}" --checkpoint-every 10 --out l2 > /dev/null 2> l2.err &
+pid=$!
+for _ in $(seq 300); do grep -q 'MPI ranks' l2.err && break; sleep 0.1; done
+sleep 0.5
+for p in $(pgrep -f -- "--out l2"); do
+  tr '\0' '\n' < /proc/"$p"/environ 2> /dev/null | grep -qx 'OMPI_COMM_WORLD_RANK=1' && kill -TERM "$p"
+done
+wait $pid
+ck=$(ls -d .l2.staging-*/checkpoint.bin 2> /dev/null | head -1)
+check "SIGTERM to rank 1 alone: every rank stops at its step, rank 0 keeps the checkpoint ($(grep -m1 interrupted l2.err))" \
+  "[[ -s '$ck' ]] && grep -q 'interrupted by signal 15' l2.err"
+"$ejecta" "${long[@]}" --restart "$ck" --out l2 > /dev/null 2>&1
+check "...restarted on 1 process: the uninterrupted run's history, no staging folder left" \
+  "cmp -s l1/history.csv l2/history.csv && [[ -z \$(ls -A | grep staging) ]]"
 err=$(ranks 2 soil --json 2>&1 >/dev/null); rc=$?
 check "only run runs on ranks: exit 2" "[[ $rc -eq 2 ]] && grep -q 'only \`ejecta run\`' <<< \"\$err\""
 echo "$fails failed"

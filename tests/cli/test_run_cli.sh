@@ -202,6 +202,27 @@ wait $pid
 rc=$?
 check "SIGTERM: exit 143 ($(tail -1 int.err)), nothing staged left, the old folder intact" \
   "[[ $rc -eq 143 ]] && [[ -z \$(ls -A | grep staging) ]] && cmp -s a/summary.json a-summary.json"
+# Periodic checkpoints land no step: the history of a run without them. A signal then writes one
+# more and keeps the staging folder; the restart gives the uninterrupted run's history.
+long=(emi-flat-7 --cell-size 25 --set early.cells_per_charge_height=8 --set end_time_s=0.01 --no-plot --quiet)
+"$ejecta" run "${long[@]}" --out ref > /dev/null 2>&1
+"$ejecta" run "${long[@]}" --checkpoint-every 0.002 --out pc > /dev/null 2> pc.err; rc=$?
+check "--checkpoint-every: exit 0, checkpoints written ($(grep -c 'wrote checkpoint' pc.err)), the history of the run without them" \
+  "[[ $rc -eq 0 ]] && [[ \$(grep -c 'wrote checkpoint' pc.err) -ge 2 ]] && cmp -s ref/history.csv pc/history.csv && [[ -s pc/checkpoint.bin ]]"
+"$ejecta" run "${long[@]}" --checkpoint-every 10 --out sig > /dev/null 2> sig.err &
+pid=$!
+for _ in $(seq 300); do grep -q 'early time: mapped' sig.err && break; sleep 0.1; done
+sleep 0.5
+kill -TERM $pid 2> /dev/null
+wait $pid
+rc=$?
+ck=$(ls -d .sig.staging-*/checkpoint.bin 2> /dev/null | head -1)
+check "--checkpoint-every: a signal writes a checkpoint ($(tail -1 sig.err)), exit 143, its staging folder kept" "[[ $rc -eq 143 && -s '$ck' ]]"
+"$ejecta" run "${long[@]}" --restart "$ck" --out sig > /dev/null 2>&1; rc=$?
+check "...its restart gives the uninterrupted run's history; the staging folder goes" \
+  "[[ $rc -eq 0 ]] && cmp -s ref/history.csv sig/history.csv && [[ -z \$(ls -A | grep staging) ]]"
+err=$("$ejecta" run "${long[@]}" --checkpoint-every 1 --checkpoint-at 0.001 --out both 2>&1 >/dev/null)
+check "--checkpoint-every with --checkpoint-at: exit 2" "[[ $? -eq 2 ]] && grep -q 'not both' <<< \"\$err\" && [[ ! -e both ]]"
 # Under nohup a hang-up is ignored, as nohup asks: the run goes on to its end.
 nohup "$ejecta" run "${common[@]}" --set end_time_s=0.002 --no-plot --out hup > /dev/null 2> hup.err &
 pid=$!
