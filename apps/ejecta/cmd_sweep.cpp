@@ -36,6 +36,7 @@ struct SweepOptions {
   std::string out = "out/sweep";
   std::string cell_size_mm;
   int threads = 0;
+  double checkpoint_every_min = 0.0;
   bool plot = true, reuse = false;
 };
 
@@ -119,6 +120,8 @@ int exitCodeOf(const std::exception_ptr& e) {
 int runSweep(const SweepOptions& o) {
   applyThreads(o.threads);
   if (o.vary.empty()) throw InputError("--vary", "at least one KEY=V1,V2,... is needed");
+  if (!(o.checkpoint_every_min >= 0.0 && o.checkpoint_every_min < 1e6))
+    throw InputError("checkpoint-every", fmt::format("{:g} min is out of range; valid [0, 1e6) min (0: none)", o.checkpoint_every_min));
   std::vector<Axis> axes;
   std::set<std::string> keys;
   for (const auto& v : o.vary) {
@@ -245,8 +248,10 @@ int runSweep(const SweepOptions& o) {
     scenario::RunOptions ro;
     ro.out_dir = dir.string();
     ro.plot = false;
+    ro.checkpoint_every_s = 60.0 * o.checkpoint_every_min;
+    ro.log = [n](const std::string& m) { std::cerr << fmt::format("sweep: case {}: {}\n", n, m); };
     try {
-      const auto r = scenario::runCase(decks[n], ro);
+      const auto r = runOrContinue(decks[n], ro, o.reuse, fmt::format("sweep: case {}", n));
       row["impulse_Ns"] = r.impulse_Ns;
       row["impulse_air_Ns"] = r.impulse_air_Ns;
       row["impulse_products_Ns"] = r.impulse_products_Ns;
@@ -254,7 +259,7 @@ int runSweep(const SweepOptions& o) {
       row["peak_force_N"] = r.peak_force_N;
       row["cells"] = r.cells;
       row["steps"] = r.steps;
-      row["wall_s"] = r.wall_s;
+      row["wall_s"] = r.wall_s + r.wall_before_s;   // all its parts, where it was continued from a checkpoint
       row["status"] = "done";
       json keep{{"deck_echo", decks[n].echo}, {"solver_revision", hydro::kSolverRevision}, {"ejecta_version", build_info::version}, {"row", row}};
       io::writeFileAtomically(saved, keep.dump() + "\n");
@@ -308,7 +313,12 @@ Action addSweepCommand(CLI::App& app) {
   sub->add_option("--cell-size", o->cell_size_mm, "Core cell size, mm");
   sub->add_option("--out", o->out, "Output folder: new, empty or an earlier sweep's (default out/sweep)");
   sub->add_option("--threads", o->threads, "OpenMP threads (default: all cores)");
-  sub->add_flag("--reuse", o->reuse, "Take a case's result from its folder in --out when its resolved deck is unchanged (continues an interrupted sweep)");
+  sub->add_flag("--reuse", o->reuse,
+                "Take a case's result from its folder in --out when its resolved deck is unchanged, and continue a case that an\n"
+                "interrupted sweep left a checkpoint of (continues an interrupted sweep)");
+  sub->add_option("--checkpoint-every", o->checkpoint_every_min,
+                  "Each case writes a checkpoint every MIN minutes of wall time and when a signal stops it (see ejecta run);\n"
+                  "--reuse continues from it");
   sub->add_flag("!--no-plot", o->plot, "Skip sweep.png");
   return [sub, o]() -> int {
     if (!sub->parsed()) return -1;

@@ -42,6 +42,7 @@ struct ValidateOptions {
   std::vector<std::string> only;
   int threads = 0, jobs = 0;
   double vplate_mm = 0.0;
+  double checkpoint_every_min = 0.0;
   bool reuse = false, plot = true;
 };
 
@@ -56,6 +57,8 @@ int availableThreads(int requested) {
 int runValidate(const ValidateOptions& o) {
   if (o.quick && o.full) throw InputError("level", "give --quick or --full, not both");
   if (o.jobs < 0) throw InputError("jobs", fmt::format("{} is out of range; valid >= 0 (0: one case per thread)", o.jobs));
+  if (!(o.checkpoint_every_min >= 0.0 && o.checkpoint_every_min < 1e6))
+    throw InputError("checkpoint-every", fmt::format("{:g} min is out of range; valid [0, 1e6) min (0: none)", o.checkpoint_every_min));
   applyThreads(o.threads);
   const auto level = o.full ? scenario::ValidationLevel::Full : scenario::ValidationLevel::Quick;
   const auto plan = scenario::validationPlan(level, o.only, o.vplate_mm);
@@ -122,7 +125,12 @@ int runValidate(const ValidateOptions& o) {
         ro.out_dir = (work / c.id).string();
         ro.progress = false;
         ro.plot = false;
-        const auto r = scenario::runCase(decks[i], ro);
+        ro.checkpoint_every_s = 60.0 * o.checkpoint_every_min;
+        ro.log = [&lock, id = c.id](const std::string& m) {
+          const std::lock_guard<std::mutex> g(lock);
+          std::cerr << fmt::format("validate: {}: {}\n", id, m);
+        };
+        const auto r = runOrContinue(decks[i], ro, o.reuse, c.id);
         auto j = scenario::condenseOutcome(c, r);
         j["deck_echo"] = decks[i].echo;
         j["ejecta_version"] = build_info::version;
@@ -217,7 +225,12 @@ Action addValidateCommand(CLI::App& app) {
   sub->add_option("--work", o->work, "Folder for the case runs (default <out>/cases)");
   sub->add_option("--threads", o->threads, "Threads in all (default: all cores)");
   sub->add_option("--jobs", o->jobs, "Cases run at once, sharing the threads (default: one case per thread)");
-  sub->add_flag("--reuse", o->reuse, "Take a case's result from an earlier run in --work when its deck is unchanged");
+  sub->add_flag("--reuse", o->reuse,
+                "Take a case's result from an earlier run in --work when its deck is unchanged, and continue a case that an\n"
+                "interrupted study left a checkpoint of");
+  sub->add_option("--checkpoint-every", o->checkpoint_every_min,
+                  "Each case writes a checkpoint every MIN minutes of wall time and when a signal stops it (see ejecta run);\n"
+                  "--reuse continues from it");
   sub->add_flag("!--no-plot", o->plot, "Skip the figures");
   return [sub, o]() -> int {
     if (!sub->parsed()) return -1;

@@ -3,6 +3,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "scenario/run.hpp"
+
 namespace ejecta::cli {
 
 // Each sub-command registers its options and returns the action to run after parsing.
@@ -24,6 +26,11 @@ std::string cellSizeOverride(const std::string& millimetres);
 std::string resolveDeck(const std::string& name);
 
 double parseNumber(const std::string& field, const std::string& text, bool percent_ok = false);
+
+// A study's case (validate, sweep): with `reuse`, a case that an interrupted study left a checkpoint
+// of (in its run's staging folder) continues from it, and one that cannot be continued (another
+// build, damaged) runs from the start, said on stderr under `label`.
+scenario::RunResult runOrContinue(const scenario::Deck& deck, scenario::RunOptions ro, bool reuse, const std::string& label);
 
 // The number of MPI ranks this process runs among (1 without a launcher or without MPI).
 int mpiRanks();

@@ -1,12 +1,14 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <iostream>
 
 #include <fmt/format.h>
 
 #include "commands.hpp"
 #include "core/error.hpp"
 #include "ejecta/build_info.hpp"
+#include "scenario/run.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -51,6 +53,20 @@ void applyThreads(int threads) {
 
 std::string cellSizeOverride(const std::string& millimetres) {
   return "mesh.cell_size_m=" + fmt::format("{:g}", parseNumber("cell-size", millimetres) / 1000.0);
+}
+
+scenario::RunResult runOrContinue(const scenario::Deck& deck, scenario::RunOptions ro, bool reuse, const std::string& label) {
+  if (reuse) ro.restart = scenario::leftCheckpoint(ro.out_dir);
+  if (ro.restart.empty()) return scenario::runCase(deck, ro);
+  std::cerr << fmt::format("{}: continues from {}\n", label, ro.restart);
+  try {
+    return scenario::runCase(deck, ro);
+  } catch (const InputError& e) {
+    if (e.field() != "restart") throw;
+    std::cerr << fmt::format("{}: cannot continue ({}); runs from the start\n", label, e.what());
+  }
+  ro.restart.clear();
+  return scenario::runCase(deck, ro);
 }
 
 }  // namespace ejecta::cli

@@ -52,6 +52,7 @@ struct DriverState {
   double next_history = 0.0;
   std::size_t next_profile = 0, next_field = 0;
   bool checkpoint_written = false;
+  double wall_before_s = 0.0;   // wall time of the runs before the checkpoint this one restarted from
 };
 
 void putList(std::ostream& os, const std::vector<double>& v) {
@@ -104,7 +105,8 @@ void putState(std::ostream& os, const DriverState& s) {
                                              {"energy_initial_J", s.energy_initial},
                                              {"next_history_s", s.next_history},
                                              {"next_profile", s.next_profile},
-                                             {"next_field", s.next_field}}
+                                             {"next_field", s.next_field},
+                                             {"wall_s", s.wall_before_s}}
                                   .dump(-1, ' ', false, nlohmann::json::error_handler_t::strict);
   const std::uint64_t n = scalars.size();
   os.write(reinterpret_cast<const char*>(&n), sizeof n);
@@ -146,6 +148,9 @@ void getState(std::istream& is, DriverState& s, std::size_t profile_columns) {
     s.next_history = number("next_history_s");
     s.next_profile = countOf(number("next_profile"));
     s.next_field = countOf(number("next_field"));
+    // (not in the checkpoints of 3 December 2026 and before: their runs' time is not known)
+    s.wall_before_s = j.contains("wall_s") ? number("wall_s") : 0.0;
+    if (s.wall_before_s < 0.0) damagedCheckpoint();
   } catch (const nlohmann::json::exception&) {
     damagedCheckpoint();
   }
@@ -714,7 +719,9 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     if (slab) s.assemble(*rs, *ex);
     std::ostringstream payload;
     s.writeCheckpoint(payload);
-    putState(payload, st);
+    DriverState at = st;   // (a copy: the wall time so far goes into the file, not into the run's state)
+    at.wall_before_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_wall0).count();
+    putState(payload, at);
     if (writer) io::writeCheckpointFile((out / "checkpoint.bin").string(), checkpointHeader(deck, rs->time()), payload.str());
     say(fmt::format("wrote checkpoint at t = {:.6g} s: {} (checkpoint.bin in the run folder when the run ends; restart from this path if "
                     "the run is interrupted before)",
@@ -799,6 +806,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   res.steps = s.stats().steps;
   res.cells = g.interiorCells();
   res.wall_s = wall;
+  res.wall_before_s = st.wall_before_s;
 
   // ---- the run folder
   for (const auto& c : history_columns) res.history_columns.push_back(c.first);
@@ -924,7 +932,8 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
                 {"core_cell_size_m", deck.mesh.cell_size_m},
                 {"ranks", opt.exchange ? opt.exchange->size() : 1},
                 {"threads", threadCount()},
-                {"restarted_from", opt.restart}};
+                {"restarted_from", opt.restart},
+                {"wall_seconds_before_restart", st.wall_before_s}};
   if (writer) io::writeFileAtomically(out / "summary.json", sum.dump(2) + "\n");
   if (opt.plot && writer) {
     const fs::path data = io::temporarySibling(out / "plot_data.json");
@@ -990,7 +999,45 @@ std::string makeStage(const fs::path& parent, const std::string& prefix, const f
   return ec ? fmt::format("cannot create the run folder '{}': {}", out_dir, ec.message()) : std::string();
 }
 
+// The staging folders of runs into `out` are named by this prefix and the run's process id.
+std::string stagingPrefix(const fs::path& out) {
+  // (built by append: GCC 12 warns falsely, -Wrestrict, on "." + name + "...")
+  std::string prefix(1, '.');
+  prefix.append(out.filename().string()).append(".staging-");
+  return prefix;
+}
+
+fs::path runFolder(const std::string& out_dir) {
+  fs::path out = fs::path(out_dir).lexically_normal();
+  if (out.filename().empty()) out = out.parent_path();
+  return out;
+}
+
 }  // namespace
+
+std::string leftCheckpoint(const std::string& out_dir) {
+  const fs::path out = runFolder(out_dir);
+  const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
+  const std::string prefix = stagingPrefix(out);
+  std::error_code ec;
+  fs::path best;
+  fs::file_time_type newest{};
+  if (fs::is_directory(parent, ec))
+    for (const auto& entry : fs::directory_iterator(parent, ec)) {
+      const std::string name = entry.path().filename().string();
+      if (name.rfind(prefix, 0) != 0) continue;
+      char* end = nullptr;
+      const long pid = std::strtol(name.c_str() + prefix.size(), &end, 10);
+      const fs::path file = entry.path() / "checkpoint.bin";
+      if (!end || *end != '\0' || processAlive(pid) || !fs::is_regular_file(file, ec)) continue;
+      const auto when = fs::last_write_time(file, ec);
+      if (!ec && (best.empty() || when > newest)) {
+        best = file;
+        newest = when;
+      }
+    }
+  return best.string();
+}
 
 // A run folder is written as one unit: the run writes into a hidden staging folder beside it
 // (.NAME.staging-PID), which replaces the folder only when the run has ended well. A failed or
@@ -1007,8 +1054,7 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
   // field snapshots there (rank 0 makes it and writes the rest).
   long stage_pid = static_cast<long>(::getpid());
   if (opt.exchange && opt.exchange->size() > 1) stage_pid = static_cast<long>(opt.exchange->gatherAll({static_cast<double>(stage_pid)})[0]);
-  fs::path out = fs::path(opt.out_dir).lexically_normal();
-  if (out.filename().empty()) out = out.parent_path();
+  const fs::path out = runFolder(opt.out_dir);
   if (out.empty() || out.filename() == "." || out.filename() == "..")
     throw InputError("out", fmt::format("'{}' does not name a folder to write", opt.out_dir));
   if (fs::exists(out) && !fs::is_directory(out)) throw InputError("out", fmt::format("'{}' exists and is not a directory", opt.out_dir));
@@ -1020,9 +1066,7 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
                                         opt.out_dir));
   if (out == out.root_path()) throw InputError("out", fmt::format("'{}' is the root; a run replaces its folder whole: name a folder", opt.out_dir));
   const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
-  // (built by append: GCC 12 warns falsely, -Wrestrict, on "." + name + "...")
-  std::string prefix(1, '.');
-  prefix.append(out.filename().string()).append(".staging-");
+  const std::string prefix = stagingPrefix(out);
   std::string old_name(1, '.');
   old_name.append(out.filename().string()).append(".old-").append(std::to_string(static_cast<long>(::getpid())));
   const fs::path stage = parent / (prefix + std::to_string(stage_pid));

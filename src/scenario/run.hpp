@@ -43,7 +43,8 @@ struct RunResult {
   double displacement_m = 0.0;
   long long steps = 0;
   std::size_t cells = 0;
-  double wall_s = 0.0;
+  double wall_s = 0.0;              // this run's
+  double wall_before_s = 0.0;       // the runs' before the checkpoint it restarted from (0: a fresh run)
   double energy_imbalance_fraction = 0.0;   // energy books' imbalance / the charge's energy (round-off)
   // What history.csv and surface_profiles.csv hold, for callers that study many runs.
   std::vector<std::string> history_columns;
@@ -58,5 +59,10 @@ RunResult runCase(const Deck& deck, const RunOptions& opt);
 // geometry on its mesh (the charge inside the uniform core, gauges in the flow, the end after the
 // early time). Throws InputError naming the field. A study checks all its cases with it first.
 void checkCase(const Deck& deck);
+
+// The checkpoint that an interrupted run into `out_dir` left in its staging folder
+// (.NAME.staging-PID/checkpoint.bin, its process gone; the newest if several), or "" if none:
+// what `--reuse` in a study continues a case from.
+std::string leftCheckpoint(const std::string& out_dir);
 
 }  // namespace ejecta::scenario

@@ -270,6 +270,19 @@ check "sweep: SIGTERM exits 143, the index says interrupted with case 0 done" \
 "$ejecta" sweep "${sw[@]}" --set end_time_s=0.003 --vary target.standoff_m=0,0.05,0.1 --no-plot --out si --reuse > i2.txt 2> i2.err; rc=$?
 check "sweep --reuse continues: case 0 reused, the others run ($(tail -1 i2.err))" \
   "[[ $rc -eq 0 ]] && [[ \$(grep -c ',reused$' si/sweep.csv) -eq 1 && \$(grep -c ',done$' si/sweep.csv) -eq 2 ]] && grep -q '\"status\": \"complete\"' si/sweep.json"
+# with --checkpoint-every a case stopped by a signal continues from its checkpoint under --reuse,
+# into the history of the case run whole
+"$ejecta" sweep "${sw[@]}" --set end_time_s=0.006 --vary target.standoff_m=0.05 --no-plot --out sr > /dev/null 2>&1
+"$ejecta" sweep "${sw[@]}" --set end_time_s=0.006 --vary target.standoff_m=0,0.05 --no-plot --checkpoint-every 10 --out sc > /dev/null 2> sc.err &
+pid=$!
+for _ in $(seq 300); do [[ $(grep -c 'early time: mapped' sc.err) -ge 2 ]] && break; sleep 0.1; done
+sleep 0.3
+kill -TERM $pid 2> /dev/null
+wait $pid
+rc=$?
+"$ejecta" sweep "${sw[@]}" --set end_time_s=0.006 --vary target.standoff_m=0,0.05 --no-plot --checkpoint-every 10 --out sc --reuse > /dev/null 2> sc2.err
+check "sweep --checkpoint-every: a signal mid-case (rc $rc), --reuse continues it from its checkpoint into the whole run's history" \
+  "[[ $rc -eq 143 ]] && grep -q 'sweep: case 1: continues from' sc2.err && cmp -s sr/case_000/history.csv sc/case_001/history.csv && [[ -z \$(ls -A sc | grep staging) ]]"
 # a case that fails as it runs is recorded; the others run; the exit code is the failure's
 rm -r si/case_002 && mkdir si/case_002 && touch si/case_002/stray
 "$ejecta" sweep "${sw[@]}" --set end_time_s=0.003 --vary target.standoff_m=0,0.05,0.1 --no-plot --out si --reuse > /dev/null 2> f.err; rc=$?

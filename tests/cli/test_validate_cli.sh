@@ -14,6 +14,8 @@ if [[ $mode == errors ]]; then
   check "unknown study: exit 2 naming --only (rc $rc: $err)" "[[ $rc -eq 2 ]] && grep -q 'only' <<< \"\$err\" && grep -q bogus <<< \"\$err\""
   err=$("$ejecta" validate --jobs -1 --out v 2>&1 >/dev/null)
   check "negative jobs: exit 2" "[[ $? -eq 2 ]] && grep -q jobs <<< \"\$err\""
+  err=$("$ejecta" validate --checkpoint-every -1 --out v 2>&1 >/dev/null)
+  check "negative checkpoint interval: exit 2" "[[ $? -eq 2 ]] && grep -q checkpoint-every <<< \"\$err\""
   touch afile
   err=$("$ejecta" validate --only dres --out afile 2>&1 >/dev/null)
   check "output folder is a file: exit 2" "[[ $? -eq 2 ]] && grep -q afile <<< \"\$err\""
