@@ -120,8 +120,6 @@ int exitCodeOf(const std::exception_ptr& e) {
 int runSweep(const SweepOptions& o) {
   applyThreads(o.threads);
   if (o.vary.empty()) throw InputError("--vary", "at least one KEY=V1,V2,... is needed");
-  if (!(o.checkpoint_every_min >= 0.0 && o.checkpoint_every_min < 1e6))
-    throw InputError("checkpoint-every", fmt::format("{:g} min is out of range; valid [0, 1e6) min (0: none)", o.checkpoint_every_min));
   std::vector<Axis> axes;
   std::set<std::string> keys;
   for (const auto& v : o.vary) {
@@ -316,9 +314,7 @@ Action addSweepCommand(CLI::App& app) {
   sub->add_flag("--reuse", o->reuse,
                 "Take a case's result from its folder in --out when its resolved deck is unchanged, and continue a case that an\n"
                 "interrupted sweep left a checkpoint of (continues an interrupted sweep)");
-  sub->add_option("--checkpoint-every", o->checkpoint_every_min,
-                  "Each case writes a checkpoint every MIN minutes of wall time and when a signal stops it (see ejecta run);\n"
-                  "--reuse continues from it");
+  addCaseCheckpointOption(sub, o->checkpoint_every_min);
   sub->add_flag("!--no-plot", o->plot, "Skip sweep.png");
   return [sub, o]() -> int {
     if (!sub->parsed()) return -1;

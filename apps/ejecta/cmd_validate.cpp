@@ -57,8 +57,6 @@ int availableThreads(int requested) {
 int runValidate(const ValidateOptions& o) {
   if (o.quick && o.full) throw InputError("level", "give --quick or --full, not both");
   if (o.jobs < 0) throw InputError("jobs", fmt::format("{} is out of range; valid >= 0 (0: one case per thread)", o.jobs));
-  if (!(o.checkpoint_every_min >= 0.0 && o.checkpoint_every_min < 1e6))
-    throw InputError("checkpoint-every", fmt::format("{:g} min is out of range; valid [0, 1e6) min (0: none)", o.checkpoint_every_min));
   applyThreads(o.threads);
   const auto level = o.full ? scenario::ValidationLevel::Full : scenario::ValidationLevel::Quick;
   const auto plan = scenario::validationPlan(level, o.only, o.vplate_mm);
@@ -228,9 +226,7 @@ Action addValidateCommand(CLI::App& app) {
   sub->add_flag("--reuse", o->reuse,
                 "Take a case's result from an earlier run in --work when its deck is unchanged, and continue a case that an\n"
                 "interrupted study left a checkpoint of");
-  sub->add_option("--checkpoint-every", o->checkpoint_every_min,
-                  "Each case writes a checkpoint every MIN minutes of wall time and when a signal stops it (see ejecta run);\n"
-                  "--reuse continues from it");
+  addCaseCheckpointOption(sub, o->checkpoint_every_min);
   sub->add_flag("!--no-plot", o->plot, "Skip the figures");
   return [sub, o]() -> int {
     if (!sub->parsed()) return -1;

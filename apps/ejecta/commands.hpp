@@ -31,6 +31,8 @@ double parseNumber(const std::string& field, const std::string& text, bool perce
 // of (in its run's staging folder) continues from it, and one that cannot be continued (another
 // build, damaged) runs from the start, said on stderr under `label`.
 scenario::RunResult runOrContinue(const scenario::Deck& deck, scenario::RunOptions ro, bool reuse, const std::string& label);
+// A study's --checkpoint-every MIN (0: none), passed to each case's run.
+void addCaseCheckpointOption(CLI::App* sub, double& minutes);
 
 // The number of MPI ranks this process runs among (1 without a launcher or without MPI).
 int mpiRanks();

@@ -69,4 +69,11 @@ scenario::RunResult runOrContinue(const scenario::Deck& deck, scenario::RunOptio
   return scenario::runCase(deck, ro);
 }
 
+void addCaseCheckpointOption(CLI::App* sub, double& minutes) {
+  sub->add_option("--checkpoint-every", minutes,
+                  "Each case writes a checkpoint every MIN minutes of wall time and when a signal stops it (see ejecta run);\n"
+                  "--reuse continues from it")
+      ->check(CLI::Range(0.0, 1e6));
+}
+
 }  // namespace ejecta::cli
