@@ -623,6 +623,17 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     say(fmt::format("early time: fine block r <= {:.3f} m, z {:.3f} to {:.3f} m, {} x {} cells of {:.3g} mm ({:.1f} per charge height), to t = {:.3g} us",
                     plan->block.r_max_m, plan->block.z_lo_m, plan->block.z_hi_m, fg.cells(0), fg.cells(1), 1e3 * plan->block.cell_size_m,
                     cs.charge.height_m / plan->block.cell_size_m, 1e6 * plan->map_time_s));
+    // A charge far smaller than the run's cells gets a block of whole run cells at a fine cell
+    // size: said before the work when it is ten times the run's (cells times the steps each mesh
+    // needs at one signal speed).
+    const double early_work = static_cast<double>(fg.interiorCells()) * plan->map_time_s / plan->block.cell_size_m;
+    const double run_work = static_cast<double>(g.interiorCells()) * deck.end_time_s / deck.mesh.cell_size_m;
+    if (early_work > 10.0 * run_work)
+      say(fmt::format("early time: its block costs about {:.3g} times the run mesh's work ({} cells of {:.3g} mm for the charge's {:.3g} mm "
+                      "height against {} run cells of {:.3g} mm): smaller run cells, a lower early.cells_per_charge_height, or "
+                      "early.enabled = false cost less",
+                      early_work / run_work, fg.interiorCells(), 1e3 * plan->block.cell_size_m, 1e3 * cs.charge.height_m, g.interiorCells(),
+                      1e3 * deck.mesh.cell_size_m));
     const double e_fine0 = fs_.totals().total();
     // the load at rest on the part of the target inside the block (the rest is undisturbed)
     const double static_fine = cs.plate.present && !onto_3d ? cs.symmetry * fs_.bodyLoad()[up] : 0.0;

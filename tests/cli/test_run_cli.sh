@@ -43,6 +43,14 @@ check "outputs within the early time: exit 0 ($(tail -1 early-out.err)), taken a
    && head -1 early-out/surface_profiles.csv | grep -q '^r_m,z_m@t' && grep -q 'field_times_s: 1e-06 s is within the early time' early-out.err \
    && grep -q 'profile_times_s: 1e-06 s is within the early time' early-out.err"
 
+# A charge far smaller than the run's cells: the early block's cost is said before its work.
+"$ejecta" run "${common[@]}" --set charge.mass_kg=1e-6 --no-plot --out tiny > /dev/null 2> tiny.err &
+pid=$!
+for _ in $(seq 300); do grep -q 'early time (fine block\|run mesh.s work' tiny.err && break; sleep 0.1; done
+kill -TERM $pid 2> /dev/null
+wait $pid
+check "a 1 mg charge under 25 mm cells: the early block's cost said first" "grep -q 'times the run mesh.s work' tiny.err"
+
 "$ejecta" run "${common[@]}" --restart a/checkpoint.bin --out b --no-plot > b.txt 2> b.err; rc=$?
 check "restart exits 0 ($(tail -1 b.err))" "[[ $rc -eq 0 ]]"
 check "restart: history bit for bit" "cmp -s a/history.csv b/history.csv"
