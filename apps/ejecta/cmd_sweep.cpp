@@ -110,6 +110,8 @@ int exitCodeOf(const std::exception_ptr& e) {
     std::rethrow_exception(e);
   } catch (const InputError&) {
     return 2;
+  } catch (const fs::filesystem_error&) {
+    return 2;   // as the front end says it: a path the run could not write
   } catch (const RunError&) {
     return 3;
   } catch (...) {
@@ -118,6 +120,11 @@ int exitCodeOf(const std::exception_ptr& e) {
 }
 
 int runSweep(const SweepOptions& o) {
+  // a signal at any point of the study (between cases, while checking them) is seen, not fatal
+  const scenario::InterruptScope signals;
+  auto stopIfSignalled = [](const std::string& where) {
+    if (const int sig = scenario::interruptedBy(); sig != 0) throw Interrupted(sig, fmt::format("interrupted by signal {} {}", sig, where));
+  };
   applyThreads(o.threads);
   if (o.vary.empty()) throw InputError("--vary", "at least one KEY=V1,V2,... is needed");
   std::vector<Axis> axes;
@@ -161,6 +168,7 @@ int runSweep(const SweepOptions& o) {
     try {
       decks.push_back(scenario::loadDeck(path, ov));
       scenario::checkCase(decks.back());
+      stopIfSignalled("while the cases were checked");
     } catch (const InputError& e) {
       throw InputError(e.field(), fmt::format("{} (case {}: {})", std::string(e.what()).substr(e.field().size() + 2), n, labelOf(n)));
     }
@@ -206,18 +214,16 @@ int runSweep(const SweepOptions& o) {
     }
     return csv;
   };
-  // sweep.csv and sweep.json together (each file atomically; the plot only at the end)
-  auto writeIndex = [&](const std::string& status, bool plot) {
-    const json doc = indexDoc(status);
+  // sweep.csv and sweep.json together (each file atomically)
+  auto writeIndex = [&](const std::string& status) {
     io::OutputTransaction outputs;
     outputs.stage(out / "sweep.csv", [&](std::ostream& os) { os << csvOf(); });
-    outputs.stage(out / "sweep.json", [&](std::ostream& os) { os << doc.dump(2) << '\n'; });
-    if (plot) io::stagePlot(outputs, "plot_sweep.py", doc.dump(), out / "sweep.png");
+    outputs.stage(out / "sweep.json", [&](std::ostream& os) { os << indexDoc(status).dump(2) << '\n'; });
     outputs.commit();
   };
   std::error_code ec;
   fs::remove(out / "sweep.png", ec);   // an earlier study's plot: this study's is drawn at its end
-  writeIndex("running", false);
+  writeIndex("running");
 
   std::exception_ptr first_failure;
   std::size_t failed = 0, reused = 0, ran = 0;
@@ -235,7 +241,7 @@ int runSweep(const SweepOptions& o) {
           row["status"] = "reused";
           ++reused;
           std::cout << fmt::format("{:>4}  {:<50} impulse {:>10.1f} N s  (reused: {})\n", n, labelOf(n), row.at("impulse_Ns").get<double>(), dir.string());
-          writeIndex("running", false);
+          writeIndex("running");
           continue;
         }
       } catch (const json::exception&) {
@@ -265,7 +271,8 @@ int runSweep(const SweepOptions& o) {
       run_wall += r.wall_s;
       std::cout << fmt::format("{:>4}  {:<50} impulse {:>10.1f} N s  ({} cells, {:.1f} s)\n", n, labelOf(n), r.impulse_Ns, r.cells, r.wall_s);
     } catch (const Interrupted&) {
-      writeIndex("interrupted", false);   // what finished stays readable; --reuse continues it
+      row["status"] = "interrupted";
+      writeIndex("interrupted");   // what finished stays readable; --reuse continues it
       throw;
     } catch (const std::exception& e) {
       // the case is recorded and the study goes on; the exit code says it at the end
@@ -275,7 +282,11 @@ int runSweep(const SweepOptions& o) {
       row["error"] = e.what();
       std::cerr << fmt::format("sweep: case {} ({}) failed: {}\n", n, labelOf(n), e.what());
     }
-    writeIndex("running", false);
+    writeIndex("running");
+    if (scenario::interruptedBy() != 0) {   // came after the case's last step: the next one does not start
+      writeIndex("interrupted");
+      stopIfSignalled(fmt::format("after case {}", n));
+    }
     const std::size_t left = combos.size() - n - 1;
     if (ran > 0 && left > 0) {
       const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -283,14 +294,27 @@ int runSweep(const SweepOptions& o) {
                                combos.size(), elapsed / 60.0, static_cast<double>(left) * run_wall / static_cast<double>(ran) / 60.0, ran);
     }
   }
-  writeIndex(failed ? "failed" : "complete", o.plot && failed < combos.size());
+  writeIndex(failed ? "failed" : "complete");
   // an earlier, larger study's case folders (run folders: runCase writes a case whole) are not this one's
   for (const auto& entry : fs::directory_iterator(out)) {
     const auto k = caseIndex(entry.path().filename().string());
     if (k && *k >= combos.size() && entry.is_directory() && fs::exists(entry.path() / "summary.json")) fs::remove_all(entry.path());
   }
-  std::cout << fmt::format("wrote {}/sweep.csv, sweep.json{} and case_*/ ({} run, {} reused{})\n", o.out, o.plot && failed < combos.size() ? ", sweep.png" : "",
-                           ran, reused, failed ? fmt::format(", {} FAILED", failed) : "");
+  // the plot last, on its own: a plot that cannot be drawn (no matplotlib) is said, the index stands
+  bool plotted = false;
+  if (o.plot && failed < combos.size()) {
+    try {
+      io::OutputTransaction outputs;
+      io::stagePlot(outputs, "plot_sweep.py", indexDoc("complete").dump(), out / "sweep.png");
+      outputs.commit();
+      plotted = true;
+    } catch (const std::exception& e) {
+      stopIfSignalled("while sweep.png was drawn");
+      std::cerr << fmt::format("sweep: sweep.png not drawn: {}\n", e.what());
+    }
+  }
+  std::cout << fmt::format("wrote {}/sweep.csv, sweep.json{} and case_*/ ({} run, {} reused{})\n", o.out, plotted ? ", sweep.png" : "", ran, reused,
+                           failed ? fmt::format(", {} FAILED", failed) : "");
   if (failed) {
     std::cerr << fmt::format("sweep: {} of {} case(s) failed (sweep.json holds each error)\n", failed, combos.size());
     return exitCodeOf(first_failure);

@@ -128,7 +128,7 @@ int runValidate(const ValidateOptions& o) {
           const std::lock_guard<std::mutex> g(lock);
           std::cerr << fmt::format("validate: {}: {}\n", id, m);
         };
-        const auto r = runOrContinue(decks[i], ro, o.reuse, c.id);
+        const auto r = runOrContinue(decks[i], ro, o.reuse, "validate: " + c.id);
         auto j = scenario::condenseOutcome(c, r);
         j["deck_echo"] = decks[i].echo;
         j["ejecta_version"] = build_info::version;

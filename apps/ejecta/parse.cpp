@@ -62,7 +62,8 @@ scenario::RunResult runOrContinue(const scenario::Deck& deck, scenario::RunOptio
   try {
     return scenario::runCase(deck, ro);
   } catch (const InputError& e) {
-    if (e.field() != "restart") throw;
+    // the checkpoint is not this case's to continue (another build, damaged, other gauges, past the end)
+    if (e.field() != "restart" && e.field() != "end_time_s") throw;
     std::cerr << fmt::format("{}: cannot continue ({}); runs from the start\n", label, e.what());
   }
   ro.restart.clear();

@@ -165,6 +165,13 @@ void getState(std::istream& is, DriverState& s, std::size_t profile_columns) {
                             std::all_of(s.profiles.begin(), s.profiles.end(), [&](const auto& p) { return p.size() == profile_columns; });
   if (t.impulse_kind.size() != 3 || t.impulse_kind_near.size() != 3 * hydro::kNearWallDepths || !profiles_fit) damagedCheckpoint();
 }
+// A restart's gauges are its deck's: rows of another list would not fit gauges.csv's columns.
+void checkGauges(const DriverState& s, std::size_t gauges) {
+  for (const auto& row : s.gauges)
+    if (row.size() != gauges + 1)
+      throw InputError("restart", fmt::format("the checkpoint's run recorded {} gauge(s), the deck's output.gauges_m has {}; valid: the same gauges",
+                                              row.size() - 1, gauges));
+}
 
 // The load split by the materials within each of kNearWallDepth_m of the target.
 nlohmann::json nearWallJson(const std::vector<double>& near) {
@@ -372,48 +379,17 @@ extern "C" void onInterrupt(int sig) { interrupted_by.store(sig); }
 void stopIfInterrupted(double t, int sig = interrupted_by.load()) {
   if (sig != 0) throw Interrupted(sig, fmt::format("interrupted by signal {} at t = {:.6g} s", sig, t));
 }
-// Installs the handlers while any run is going (`ejecta validate` runs cases on several threads)
-// and puts the previous ones back after the last.
-class InterruptGuard {
- public:
-  InterruptGuard() {
-    const std::lock_guard<std::mutex> g(mutex_);
-    if (runs_++ > 0) return;
-    for (std::size_t i = 0; i < kSignals.size(); ++i) {
-      struct sigaction now{};
-      now.sa_handler = onInterrupt;
-      sigemptyset(&now.sa_mask);
-      ::sigaction(kSignals[i], &now, &previous_[i]);
-      // a signal the run was started ignoring stays ignored (nohup's SIGHUP, a script's background job's SIGINT)
-      if (previous_[i].sa_handler == SIG_IGN) ::sigaction(kSignals[i], &previous_[i], nullptr);
-    }
-  }
-  ~InterruptGuard() {
-    const std::lock_guard<std::mutex> g(mutex_);
-    if (--runs_ > 0) return;
-    for (std::size_t i = 0; i < kSignals.size(); ++i) ::sigaction(kSignals[i], &previous_[i], nullptr);
-  }
-  InterruptGuard(const InterruptGuard&) = delete;
-  InterruptGuard& operator=(const InterruptGuard&) = delete;
-
- private:
-  static constexpr std::array<int, 3> kSignals{SIGINT, SIGTERM, SIGHUP};
-  static inline std::mutex mutex_;
-  static inline int runs_ = 0;
-  static inline std::array<struct sigaction, 3> previous_{};
-};
+// The handlers' state while any scope lives (`ejecta validate` runs cases on several threads).
+constexpr std::array<int, 3> kSignals{SIGINT, SIGTERM, SIGHUP};
+std::mutex interrupt_mutex;
+int interrupt_scopes = 0;
+std::array<struct sigaction, 3> interrupt_previous{};
 
 // Runs the case into `out`, a staging folder that runCase swaps into place when the run ends.
 RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out) {
   auto say = [&](const std::string& m) {
     if (opt.log) opt.log(m);
   };
-  if (opt.checkpoint_at_s > 0.0 && !(opt.checkpoint_at_s < deck.end_time_s))
-    throw InputError("checkpoint-at", fmt::format("{:g} s is out of range; valid (0, end_time_s = {:g}) s", opt.checkpoint_at_s, deck.end_time_s));
-  if (!(opt.checkpoint_every_s >= 0.0 && opt.checkpoint_every_s < 1e9))
-    throw InputError("checkpoint-every", fmt::format("{:g} s is out of range; valid [0, 1e9) s (0: none)", opt.checkpoint_every_s));
-  if (opt.checkpoint_every_s > 0.0 && opt.checkpoint_at_s > 0.0)
-    throw InputError("checkpoint-every", "give --checkpoint-at or --checkpoint-every, not both (both write checkpoint.bin)");
   Case cs = buildCase(deck);   // validates everything before the run folder is touched
   checkSetUp(deck, cs, opt.restart.empty());
   auto& s = *cs.solver;
@@ -431,6 +407,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     std::istringstream in(io::readCheckpointFile(opt.restart, checkpointHeader(deck, 0.0), nullptr));
     s.readCheckpoint(in);
     getState(in, st, static_cast<std::size_t>(g.cells(0)));
+    checkGauges(st, deck.output.gauges_m.size());
     if (!in) throw InputError("restart", "the checkpoint is truncated");
     if (!(s.time() < deck.end_time_s))
       throw InputError("end_time_s", fmt::format("{:g} s is not after the checkpoint's time, {:g} s", deck.end_time_s, s.time()));
@@ -728,12 +705,26 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   // (a restart may use any number). Writing it changes nothing in the run.
   auto writeCheckpoint = [&]() {
     if (slab) s.assemble(*rs, *ex);
-    std::ostringstream payload;
-    s.writeCheckpoint(payload);
-    DriverState at = st;   // (a copy: the wall time so far goes into the file, not into the run's state)
-    at.wall_before_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_wall0).count();
-    putState(payload, at);
-    if (writer) io::writeCheckpointFile((out / "checkpoint.bin").string(), checkpointHeader(deck, rs->time()), payload.str());
+    std::string failed;
+    if (writer) {
+      try {
+        std::ostringstream payload;
+        s.writeCheckpoint(payload);
+        DriverState at = st;   // (a copy: the wall time so far goes into the file, not into the run's state)
+        at.wall_before_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_wall0).count();
+        putState(payload, at);
+        io::writeCheckpointFile((out / "checkpoint.bin").string(), checkpointHeader(deck, rs->time()), payload.str());
+      } catch (const std::exception& e) {
+        if (!ex) throw;
+        failed = e.what();
+      }
+    }
+    // every rank waits until the file is on disk (and learns if it failed): none goes on, or stops
+    // and takes the others down, before it is
+    if (ex)
+      if (const std::string all = parallel::gatherText(*ex, failed); !all.empty())
+        throw SharedFailure(fmt::format("could not write checkpoint.bin: {}", all));
+    st.checkpoint_written = true;   // this run's own: a restart does not copy its input over it
     say(fmt::format("wrote checkpoint at t = {:.6g} s: {} (checkpoint.bin in the run folder when the run ends; restart from this path if "
                     "the run is interrupted before)",
                     rs->time(), (out / "checkpoint.bin").string()));
@@ -787,10 +778,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
       writeField();
       ++st.next_field;
     }
-    if (opt.checkpoint_at_s > 0.0 && !st.checkpoint_written && t >= opt.checkpoint_at_s * (1.0 - 1e-12)) {
-      writeCheckpoint();
-      st.checkpoint_written = true;
-    }
+    if (opt.checkpoint_at_s > 0.0 && !st.checkpoint_written && t >= opt.checkpoint_at_s * (1.0 - 1e-12)) writeCheckpoint();
     const auto now = std::chrono::steady_clock::now();
     if (opt.progress && writer && std::chrono::duration<double>(now - last_progress).count() > 2.0) {
       last_progress = now;
@@ -859,7 +847,8 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     // folder holds the whole run (and a checkpoint in the folder this run replaces, or in an
     // interrupted run's staging folder, is not lost). Copied at the end: an interrupted restart
     // holds no checkpoint of its own and keeps nothing staged.
-    if (!opt.restart.empty() && !st.checkpoint_written)
+    std::error_code same_ec;
+    if (!opt.restart.empty() && !st.checkpoint_written && !fs::equivalent(opt.restart, out / "checkpoint.bin", same_ec))
       fs::copy_file(opt.restart, out / "checkpoint.bin", fs::copy_options::overwrite_existing);
   }
   nlohmann::json sum;
@@ -1003,6 +992,13 @@ std::string makeStage(const fs::path& parent, const std::string& prefix, const f
       const long pid = std::strtol(name.c_str() + prefix.size(), &end, 10);
       if (end && *end == '\0' && !processAlive(pid)) fs::remove_all(entry.path(), ec);
     }
+  if (!input.empty() && fs::weakly_canonical(stage, ec) == input.parent_path()) {
+    // an interrupted run of the same process id (a container's) left the checkpoint this run
+    // restarts from in the folder of this run's name: kept, and the rest cleared
+    for (const auto& entry : fs::directory_iterator(stage, ec))
+      if (entry.path().filename() != input.filename()) fs::remove_all(entry.path(), ec);
+    return ec ? fmt::format("cannot clear the staging folder '{}': {}", stage.string(), ec.message()) : std::string();
+  }
   fs::remove_all(stage, ec);
   ec.clear();
   fs::create_directories(parent, ec);
@@ -1026,6 +1022,27 @@ fs::path runFolder(const std::string& out_dir) {
 
 }  // namespace
 
+InterruptScope::InterruptScope() {
+  const std::lock_guard<std::mutex> g(interrupt_mutex);
+  if (interrupt_scopes++ > 0) return;
+  for (std::size_t i = 0; i < kSignals.size(); ++i) {
+    struct sigaction now{};
+    now.sa_handler = onInterrupt;
+    sigemptyset(&now.sa_mask);
+    ::sigaction(kSignals[i], &now, &interrupt_previous[i]);
+    // a signal the run was started ignoring stays ignored (nohup's SIGHUP, a script's background job's SIGINT)
+    if (interrupt_previous[i].sa_handler == SIG_IGN) ::sigaction(kSignals[i], &interrupt_previous[i], nullptr);
+  }
+}
+
+InterruptScope::~InterruptScope() {
+  const std::lock_guard<std::mutex> g(interrupt_mutex);
+  if (--interrupt_scopes > 0) return;
+  for (std::size_t i = 0; i < kSignals.size(); ++i) ::sigaction(kSignals[i], &interrupt_previous[i], nullptr);
+}
+
+int interruptedBy() { return interrupted_by.load(); }
+
 std::string leftCheckpoint(const std::string& out_dir) {
   const fs::path out = runFolder(out_dir);
   const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
@@ -1040,7 +1057,8 @@ std::string leftCheckpoint(const std::string& out_dir) {
       char* end = nullptr;
       const long pid = std::strtol(name.c_str() + prefix.size(), &end, 10);
       const fs::path file = entry.path() / "checkpoint.bin";
-      if (!end || *end != '\0' || processAlive(pid) || !fs::is_regular_file(file, ec)) continue;
+      // (this process's id on a folder: a run of another process that had the same id, as in containers)
+      if (!end || *end != '\0' || (processAlive(pid) && pid != static_cast<long>(::getpid())) || !fs::is_regular_file(file, ec)) continue;
       const auto when = fs::last_write_time(file, ec);
       if (!ec && (best.empty() || when > newest)) {
         best = file;
@@ -1060,7 +1078,14 @@ void checkCase(const Deck& deck) {
 }
 
 RunResult runCase(const Deck& deck, const RunOptions& opt) {
-  const InterruptGuard guard;
+  // the options first: a run refused for them clears no earlier run's staging folder
+  if (opt.checkpoint_at_s > 0.0 && !(opt.checkpoint_at_s < deck.end_time_s))
+    throw InputError("checkpoint-at", fmt::format("{:g} s is out of range; valid (0, end_time_s = {:g}) s", opt.checkpoint_at_s, deck.end_time_s));
+  if (!(opt.checkpoint_every_s >= 0.0 && opt.checkpoint_every_s < 1e9))
+    throw InputError("checkpoint-every", fmt::format("{:g} s is out of range; valid [0, 1e9) s (0: none)", opt.checkpoint_every_s));
+  if (opt.checkpoint_every_s > 0.0 && opt.checkpoint_at_s > 0.0)
+    throw InputError("checkpoint-every", "give --checkpoint-at or --checkpoint-every, not both (both write checkpoint.bin)");
+  const InterruptScope guard;
   // On ranks the staging folder is named by rank 0's process: every rank writes its pieces of the
   // field snapshots there (rank 0 makes it and writes the rest).
   long stage_pid = static_cast<long>(::getpid());
@@ -1100,25 +1125,31 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
   } else if (const std::string why = makeStage(parent, prefix, stage, opt.out_dir, opt.restart, out, parent / old_name); !why.empty()) {
     throw InputError("out", why);
   }
-  // a signal that came while the run wrote its outputs: the run goes as any interrupted run
-  auto interruptedWhileWriting = [&stage](int sig) {
+  // A run that did not end well leaves what it staged only where that holds a checkpoint to
+  // restart from (the log named its path; the next run into the same place clears it otherwise).
+  auto dropStage = [&]() {
     std::error_code ec;
+    if (fs::exists(stage / "checkpoint.bin", ec)) {
+      if (opt.log) opt.log(fmt::format("kept {}: restart from its checkpoint.bin", stage.string()));
+      return;
+    }
     fs::remove_all(stage, ec);
+  };
+  // a signal that came while the run wrote its outputs: the run goes as any interrupted run
+  auto interruptedWhileWriting = [&](int sig) {
+    dropStage();
     return Interrupted(sig, fmt::format("interrupted by signal {} while writing the run folder", sig));
   };
   RunResult res;
   try {
     res = runStaged(deck, opt, stage);
   } catch (const Interrupted&) {
-    // what it wrote goes, unless it holds a checkpoint to restart from (the log named its path)
-    std::error_code ec;
-    if (!fs::exists(stage / "checkpoint.bin", ec)) fs::remove_all(stage, ec);
+    dropStage();
     throw;
   } catch (...) {
     // (a signal may have failed the outputs: the plot script's child got it too)
     if (const int sig = interrupted_by.load(); sig != 0) throw interruptedWhileWriting(sig);
-    std::error_code ec;
-    fs::remove_all(stage, ec);
+    dropStage();
     throw;
   }
   if (const int sig = interrupted_by.load(); sig != 0) throw interruptedWhileWriting(sig);   // after the last step

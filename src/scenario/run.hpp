@@ -60,6 +60,19 @@ RunResult runCase(const Deck& deck, const RunOptions& opt);
 // early time). Throws InputError naming the field. A study checks all its cases with it first.
 void checkCase(const Deck& deck);
 
+// While one lives, SIGINT, SIGTERM and SIGHUP set a flag instead of ending the process (a signal
+// the process was started ignoring stays ignored). runCase holds one and stops at its next step;
+// a study holds one over all its cases, so that a signal between two is seen too. Scopes nest.
+class InterruptScope {
+ public:
+  InterruptScope();
+  ~InterruptScope();
+  InterruptScope(const InterruptScope&) = delete;
+  InterruptScope& operator=(const InterruptScope&) = delete;
+};
+// The signal that came (0: none). Never cleared: once one came, a study starts no further case.
+int interruptedBy();
+
 // The checkpoint that an interrupted run into `out_dir` left in its staging folder
 // (.NAME.staging-PID/checkpoint.bin, its process gone; the newest if several), or "" if none:
 // what `--reuse` in a study continues a case from.

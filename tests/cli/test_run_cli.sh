@@ -217,15 +217,15 @@ long=(emi-flat-7 --cell-size 25 --set early.cells_per_charge_height=8 --set end_
 "$ejecta" run "${long[@]}" --checkpoint-every 0.002 --out pc > /dev/null 2> pc.err; rc=$?
 check "--checkpoint-every: exit 0, checkpoints written ($(grep -c 'wrote checkpoint' pc.err)), the history of the run without them" \
   "[[ $rc -eq 0 ]] && [[ \$(grep -c 'wrote checkpoint' pc.err) -ge 2 ]] && cmp -s ref/history.csv pc/history.csv && [[ -s pc/checkpoint.bin ]]"
-"$ejecta" run "${long[@]}" --checkpoint-every 10 --out sig > /dev/null 2> sig.err &
+"$ejecta" run "${long[@]}" --checkpoint-every 0.002 --out sig > /dev/null 2> sig.err &
 pid=$!
-for _ in $(seq 300); do grep -q 'early time: mapped' sig.err && break; sleep 0.1; done
-sleep 0.5
+for _ in $(seq 300); do grep -q 'wrote checkpoint' sig.err && break; sleep 0.05; done
 kill -TERM $pid 2> /dev/null
 wait $pid
 rc=$?
 ck=$(ls -d .sig.staging-*/checkpoint.bin 2> /dev/null | head -1)
-check "--checkpoint-every: a signal writes a checkpoint ($(tail -1 sig.err)), exit 143, its staging folder kept" "[[ $rc -eq 143 && -s '$ck' ]]"
+check "--checkpoint-every: a signal writes a checkpoint ($(tail -1 sig.err)), exit 143, its staging folder kept" \
+  "[[ $rc -eq 143 && -s '$ck' ]] && grep -q 'kept .*sig.staging' sig.err"
 "$ejecta" run "${long[@]}" --restart "$ck" --out sig > /dev/null 2>&1; rc=$?
 check "...its restart gives the uninterrupted run's history; the staging folder goes" \
   "[[ $rc -eq 0 ]] && cmp -s ref/history.csv sig/history.csv && [[ -z \$(ls -A | grep staging) ]]"
@@ -274,23 +274,22 @@ kill -TERM $pid 2> /dev/null
 wait $pid
 rc=$?
 check "sweep: SIGTERM exits 143, the index says interrupted with case 0 done" \
-  "[[ $rc -eq 143 ]] && grep -q '\"status\": \"interrupted\"' si/sweep.json && grep -q ',done$' si/sweep.csv && grep -q '^2,.*,not run$' si/sweep.csv && [[ -z \$(ls -A si | grep staging) ]]"
+  "[[ $rc -eq 143 ]] && grep -q '\"status\": \"interrupted\"' si/sweep.json && grep -q ',done$' si/sweep.csv && grep -q '^1,.*,interrupted$' si/sweep.csv && grep -q '^2,.*,not run$' si/sweep.csv && [[ -z \$(ls -A si | grep staging) ]]"
 "$ejecta" sweep "${sw[@]}" --set end_time_s=0.003 --vary target.standoff_m=0,0.05,0.1 --no-plot --out si --reuse > i2.txt 2> i2.err; rc=$?
 check "sweep --reuse continues: case 0 reused, the others run ($(tail -1 i2.err))" \
   "[[ $rc -eq 0 ]] && [[ \$(grep -c ',reused$' si/sweep.csv) -eq 1 && \$(grep -c ',done$' si/sweep.csv) -eq 2 ]] && grep -q '\"status\": \"complete\"' si/sweep.json"
 # with --checkpoint-every a case stopped by a signal continues from its checkpoint under --reuse,
 # into the history of the case run whole
 "$ejecta" sweep "${sw[@]}" --set end_time_s=0.006 --vary target.standoff_m=0.05 --no-plot --out sr > /dev/null 2>&1
-"$ejecta" sweep "${sw[@]}" --set end_time_s=0.006 --vary target.standoff_m=0,0.05 --no-plot --checkpoint-every 10 --out sc > /dev/null 2> sc.err &
+"$ejecta" sweep "${sw[@]}" --set end_time_s=0.006 --vary target.standoff_m=0.05 --no-plot --checkpoint-every 0.002 --out sc > /dev/null 2> sc.err &
 pid=$!
-for _ in $(seq 300); do [[ $(grep -c 'early time: mapped' sc.err) -ge 2 ]] && break; sleep 0.1; done
-sleep 0.3
+for _ in $(seq 300); do grep -q 'wrote checkpoint' sc.err && break; sleep 0.05; done
 kill -TERM $pid 2> /dev/null
 wait $pid
 rc=$?
-"$ejecta" sweep "${sw[@]}" --set end_time_s=0.006 --vary target.standoff_m=0,0.05 --no-plot --checkpoint-every 10 --out sc --reuse > /dev/null 2> sc2.err
+"$ejecta" sweep "${sw[@]}" --set end_time_s=0.006 --vary target.standoff_m=0.05 --no-plot --out sc --reuse > /dev/null 2> sc2.err
 check "sweep --checkpoint-every: a signal mid-case (rc $rc), --reuse continues it from its checkpoint into the whole run's history" \
-  "[[ $rc -eq 143 ]] && grep -q 'sweep: case 1: continues from' sc2.err && cmp -s sr/case_000/history.csv sc/case_001/history.csv && [[ -z \$(ls -A sc | grep staging) ]]"
+  "[[ $rc -eq 143 ]] && grep -q 'sweep: case 0: continues from' sc2.err && cmp -s sr/case_000/history.csv sc/case_000/history.csv && [[ -z \$(ls -A sc | grep staging) ]]"
 # a case that fails as it runs is recorded; the others run; the exit code is the failure's
 rm -r si/case_002 && mkdir si/case_002 && touch si/case_002/stray
 "$ejecta" sweep "${sw[@]}" --set end_time_s=0.003 --vary target.standoff_m=0,0.05,0.1 --no-plot --out si --reuse > /dev/null 2> f.err; rc=$?
