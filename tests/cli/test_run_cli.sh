@@ -212,12 +212,12 @@ check "SIGTERM: exit 143 ($(tail -1 int.err)), nothing staged left, the old fold
   "[[ $rc -eq 143 ]] && [[ -z \$(ls -A | grep staging) ]] && cmp -s a/summary.json a-summary.json"
 # Periodic checkpoints land no step: the history of a run without them. A signal then writes one
 # more and keeps the staging folder; the restart gives the uninterrupted run's history.
-long=(emi-flat-7 --cell-size 25 --set early.cells_per_charge_height=8 --set end_time_s=0.01 --no-plot --quiet)
+long=(emi-flat-7 --cell-size 40 --set early.cells_per_charge_height=8 --set end_time_s=0.005 --no-plot --quiet)
 "$ejecta" run "${long[@]}" --out ref > /dev/null 2>&1
-"$ejecta" run "${long[@]}" --checkpoint-every 0.002 --out pc > /dev/null 2> pc.err; rc=$?
+"$ejecta" run "${long[@]}" --checkpoint-every 0.0003 --out pc > /dev/null 2> pc.err; rc=$?
 check "--checkpoint-every: exit 0, checkpoints written ($(grep -c 'wrote checkpoint' pc.err)), the history of the run without them" \
   "[[ $rc -eq 0 ]] && [[ \$(grep -c 'wrote checkpoint' pc.err) -ge 2 ]] && cmp -s ref/history.csv pc/history.csv && [[ -s pc/checkpoint.bin ]]"
-"$ejecta" run "${long[@]}" --checkpoint-every 0.002 --out sig > /dev/null 2> sig.err &
+"$ejecta" run "${long[@]}" --checkpoint-every 0.0003 --out sig > /dev/null 2> sig.err &
 pid=$!
 for _ in $(seq 300); do grep -q 'wrote checkpoint' sig.err && break; sleep 0.05; done
 kill -TERM $pid 2> /dev/null
@@ -252,7 +252,7 @@ check "sweep exits 0 ($(tail -1 s.err))" "[[ $rc -eq 0 ]]"
 check "sweep.csv has both cases" "[[ \$(wc -l < s/sweep.csv) -eq 3 ]] && [[ -s s/sweep.json && -s s/sweep.png ]]"
 err=$("$ejecta" sweep emi-flat-7 --vary target.nonsense=1,2 --out t 2>&1 >/dev/null)
 check "sweep: bad key exits 2 naming it, nothing written" "[[ $? -eq 2 ]] && grep -q target.nonsense <<< \"\$err\" && [[ ! -e t ]]"
-sw=(emi-flat-7 --cell-size 25 --set early.cells_per_charge_height=8)
+sw=(emi-flat-7 --cell-size 40 --set early.cells_per_charge_height=8)
 # a list value: its commas are its own; the CSV quotes it
 "$ejecta" sweep "${sw[@]}" --set end_time_s=0.0003 --vary 'output.gauges_m=[[0.0, -0.01]],[[0.1, -0.01], [0.2, -0.01]]' --no-plot --out l > /dev/null 2> l.err; rc=$?
 check "sweep: list values split at the top level only, quoted in sweep.csv ($(tail -1 l.err))" \
@@ -281,7 +281,7 @@ check "sweep --reuse continues: case 0 reused, the others run ($(tail -1 i2.err)
 # with --checkpoint-every a case stopped by a signal continues from its checkpoint under --reuse,
 # into the history of the case run whole
 "$ejecta" sweep "${sw[@]}" --set end_time_s=0.006 --vary target.standoff_m=0.05 --no-plot --out sr > /dev/null 2>&1
-"$ejecta" sweep "${sw[@]}" --set end_time_s=0.006 --vary target.standoff_m=0.05 --no-plot --checkpoint-every 0.002 --out sc > /dev/null 2> sc.err &
+"$ejecta" sweep "${sw[@]}" --set end_time_s=0.006 --vary target.standoff_m=0.05 --no-plot --checkpoint-every 0.0003 --out sc > /dev/null 2> sc.err &
 pid=$!
 for _ in $(seq 300); do grep -q 'wrote checkpoint' sc.err && break; sleep 0.05; done
 kill -TERM $pid 2> /dev/null
