@@ -55,6 +55,8 @@ int availableThreads(int requested) {
 }
 
 int runValidate(const ValidateOptions& o) {
+  // a signal between two cases is seen too (the next case stops at once, and none starts after it)
+  const scenario::InterruptScope signals;
   if (o.quick && o.full) throw InputError("level", "give --quick or --full, not both");
   if (o.jobs < 0) throw InputError("jobs", fmt::format("{} is out of range; valid >= 0 (0: one case per thread)", o.jobs));
   applyThreads(o.threads);

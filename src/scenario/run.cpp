@@ -1068,15 +1068,15 @@ std::string leftCheckpoint(const std::string& out_dir) {
   return best.string();
 }
 
-// A run folder is written as one unit: the run writes into a hidden staging folder beside it
-// (.NAME.staging-PID), which replaces the folder only when the run has ended well. A failed or
-// interrupted run leaves the previous complete folder as it was (and a killed one's staging
-// folder is removed by the next run into the same place).
 void checkCase(const Deck& deck) {
   const Case cs = buildCase(deck);
   checkSetUp(deck, cs, true);
 }
 
+// A run folder is written as one unit: the run writes into a hidden staging folder beside it
+// (.NAME.staging-PID), which replaces the folder only when the run has ended well. A failed or
+// interrupted run leaves the previous complete folder as it was (and a killed one's staging
+// folder is removed by the next run into the same place).
 RunResult runCase(const Deck& deck, const RunOptions& opt) {
   // the options first: a run refused for them clears no earlier run's staging folder
   if (opt.checkpoint_at_s > 0.0 && !(opt.checkpoint_at_s < deck.end_time_s))
