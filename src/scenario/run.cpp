@@ -968,6 +968,14 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
 
 bool processAlive(long pid) { return pid > 0 && (::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM); }
 
+// The process id in a staging folder's name (prefix + digits), or 0 if the name is not one.
+long stagePid(const std::string& name, const std::string& prefix) {
+  if (name.rfind(prefix, 0) != 0) return 0;
+  char* end = nullptr;
+  const long pid = std::strtol(name.c_str() + prefix.size(), &end, 10);
+  return end && *end == '\0' && pid > 0 ? pid : 0;
+}
+
 // Clears the staging folders that dead runs into the same place left and makes this run's: an
 // empty string, or why it cannot (said as bad input, naming the folder).
 std::string makeStage(const fs::path& parent, const std::string& prefix, const fs::path& stage, const std::string& out_dir,
@@ -984,13 +992,11 @@ std::string makeStage(const fs::path& parent, const std::string& prefix, const f
   const fs::path input = restart.empty() ? fs::path() : fs::weakly_canonical(fs::path(restart), ec);
   if (fs::is_directory(parent, ec))
     for (const auto& entry : fs::directory_iterator(parent, ec)) {
-      const std::string name = entry.path().filename().string();
-      if (name.rfind(prefix, 0) != 0) continue;
+      const long pid = stagePid(entry.path().filename().string(), prefix);
+      if (pid == 0) continue;
       // an interrupted run's checkpoint that this run restarts from stays until the run has ended
       if (!input.empty() && fs::weakly_canonical(entry.path(), ec) == input.parent_path()) continue;
-      char* end = nullptr;
-      const long pid = std::strtol(name.c_str() + prefix.size(), &end, 10);
-      if (end && *end == '\0' && !processAlive(pid)) fs::remove_all(entry.path(), ec);
+      if (!processAlive(pid)) fs::remove_all(entry.path(), ec);
     }
   if (!input.empty() && fs::weakly_canonical(stage, ec) == input.parent_path()) {
     // an interrupted run of the same process id (a container's) left the checkpoint this run
@@ -1052,13 +1058,10 @@ std::string leftCheckpoint(const std::string& out_dir) {
   fs::file_time_type newest{};
   if (fs::is_directory(parent, ec))
     for (const auto& entry : fs::directory_iterator(parent, ec)) {
-      const std::string name = entry.path().filename().string();
-      if (name.rfind(prefix, 0) != 0) continue;
-      char* end = nullptr;
-      const long pid = std::strtol(name.c_str() + prefix.size(), &end, 10);
+      const long pid = stagePid(entry.path().filename().string(), prefix);
       const fs::path file = entry.path() / "checkpoint.bin";
       // (this process's id on a folder: a run of another process that had the same id, as in containers)
-      if (!end || *end != '\0' || (processAlive(pid) && pid != static_cast<long>(::getpid())) || !fs::is_regular_file(file, ec)) continue;
+      if (pid == 0 || (processAlive(pid) && pid != static_cast<long>(::getpid())) || !fs::is_regular_file(file, ec)) continue;
       const auto when = fs::last_write_time(file, ec);
       if (!ec && (best.empty() || when > newest)) {
         best = file;
@@ -1167,11 +1170,9 @@ RunResult runCase(const Deck& deck, const RunOptions& opt) {
   // the checkpoint is in the new folder now
   if (!opt.restart.empty()) {
     const fs::path from = fs::weakly_canonical(fs::path(opt.restart), ec).parent_path();
-    const std::string name = from.filename().string();
-    char* end = nullptr;
-    const long pid = name.rfind(prefix, 0) == 0 ? std::strtol(name.c_str() + prefix.size(), &end, 10) : 0;
+    const long pid = stagePid(from.filename().string(), prefix);
     // (not the folder of a run still going: its log named the checkpoint as it wrote it)
-    if (!ec && pid > 0 && end && *end == '\0' && !processAlive(pid) && from.parent_path() == fs::weakly_canonical(parent, ec))
+    if (!ec && pid > 0 && !processAlive(pid) && from.parent_path() == fs::weakly_canonical(parent, ec))
       fs::remove_all(from, ec);
   }
   return res;
