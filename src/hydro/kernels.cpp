@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "mesh/grid.hpp"
 
@@ -13,7 +14,19 @@ namespace ejecta::hydro {
 using mesh::kGhost;
 
 namespace {
-inline double vanLeer(double a, double b) { return a * b > 0.0 ? 2.0 * a * b / (a + b) : 0.0; }
+// van Leer's limiter, 2ab / (a + b) where a and b share a sign, else 0; written with selects
+// around a division that cannot trap, so that a loop of them vectorises (the same number).
+inline double vanLeer(double a, double b) {
+  const bool same_sign = a * b > 0.0;
+  const double num = 2.0 * a * b, den = a + b;
+  return (same_sign ? num : 0.0) / (same_sign ? den : 1.0);
+}
+
+inline bool anySolid(const Pencil& P) {
+  for (const unsigned char x : P.solid)
+    if (x) return true;
+  return false;
+}
 
 inline double lnCosh(double x) {
   const double ax = std::abs(x);
@@ -31,7 +44,7 @@ void Pencil::resize(int cells, int materials) {
   }
   const auto sN = static_cast<std::size_t>(N), sF = sN + 1, sMN = sN * static_cast<std::size_t>(M),
              sMF = sF * static_cast<std::size_t>(M);
-  for (auto* v : {&vol, &rho, &P, &K, &Z, &hoop, &pmin, &vlag, &mass, &ke, &su, &sp}) v->assign(sN, 0.0);
+  for (auto* v : {&vol, &rho, &P, &K, &Z, &hoop, &pmin, &vlag, &mass, &ke, &su, &sp, &ie_cell, &die, &w_grav, &present, &sum_snn, &sum_s11}) v->assign(sN, 0.0);
   for (auto* v : {&area, &ustar, &pstar, &dvol}) v->assign(sF, 0.0);
   for (auto& v : u) v.assign(sN, 0.0);
   for (auto& v : mom) v.assign(sN, 0.0);
@@ -188,70 +201,113 @@ static void bookLoadByMaterial(const Pencil& P, const SweepSetup& S, int fluid, 
   }
 }
 
+// van Leer-limited slopes of u and p in cells 1 .. N-2 (computeSlopes): restrict-qualified, so that
+// the loop vectorises.
+static void limitedSlopes(std::ptrdiff_t N, const double* __restrict inv_dx, const double* __restrict un, const double* __restrict p,
+                          double* __restrict su, double* __restrict sp) {
+  for (std::ptrdiff_t i = 1; i < N - 1; ++i) {
+    const double il = inv_dx[i], ir = inv_dx[i + 1];
+    su[i] = vanLeer((un[i] - un[i - 1]) * il, (un[i + 1] - un[i]) * ir);
+    sp[i] = vanLeer((p[i] - p[i - 1]) * il, (p[i + 1] - p[i]) * ir);
+  }
+}
+
 void computeSlopes(Pencil& P, const SweepSetup& S) {
-  const auto& un = P.u[static_cast<std::size_t>(S.d)];
-  for (int i = 1; i < P.N - 1; ++i) {
+  const int N = P.N;
+  if (!S.second_order) {
+    for (int i = 1; i < N - 1; ++i) P.su[static_cast<std::size_t>(i)] = P.sp[static_cast<std::size_t>(i)] = 0.0;
+    return;
+  }
+  limitedSlopes(N, S.inv_dx, P.u[static_cast<std::size_t>(S.d)].data(), P.P.data(), P.su.data(), P.sp.data());
+  if (!anySolid(P)) return;   // first order beside the body
+  for (int i = 1; i < N - 1; ++i) {
     const std::size_t si = static_cast<std::size_t>(i);
-    if (!S.second_order || (P.solid[si - 1] | P.solid[si] | P.solid[si + 1])) {
-      P.su[si] = P.sp[si] = 0.0;   // first order beside the body
-      continue;
-    }
-    const double il = S.inv_dx[si], ir = S.inv_dx[si + 1];
-    P.su[si] = vanLeer((un[si] - un[si - 1]) * il, (un[si + 1] - un[si]) * ir);
-    P.sp[si] = vanLeer((P.P[si] - P.P[si - 1]) * il, (P.P[si + 1] - P.P[si]) * ir);
+    if (P.solid[si - 1] | P.solid[si] | P.solid[si + 1]) P.su[si] = P.sp[si] = 0.0;
+  }
+}
+
+// The acoustic Riemann problem at faces f0 .. f1 from MUSCL-Hancock states (solveFaces): a plain
+// loop over restrict-qualified arrays, so that it vectorises.
+static void acousticFaces(std::ptrdiff_t f0, std::ptrdiff_t f1, double dt, const double* __restrict width, const double* __restrict un,
+                   const double* __restrict su, const double* __restrict sp, const double* __restrict rho, const double* __restrict p,
+                   const double* __restrict K, const double* __restrict Z, double* __restrict ustar, double* __restrict pstar) {
+  for (std::ptrdiff_t f = f0; f <= f1; ++f) {
+    const std::ptrdiff_t L = f - 1, R = f;
+    const double hl = 0.5 * width[L], hr = 0.5 * width[R];
+    const double uL = un[L] + hl * su[L] - 0.5 * dt * sp[L] / rho[L];
+    const double pL = p[L] + hl * sp[L] - 0.5 * dt * K[L] * su[L];
+    const double uR = un[R] - hr * su[R] - 0.5 * dt * sp[R] / rho[R];
+    const double pR = p[R] - hr * sp[R] - 0.5 * dt * K[R] * su[R];
+    const double zl = Z[L], zr = Z[R];
+    const double zs = zl + zr;
+    ustar[f] = (zl * uL + zr * uR + pL - pR) / zs;
+    pstar[f] = (zr * pL + zl * pR + zl * zr * (uL - uR)) / zs;
   }
 }
 
 void solveFaces(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
-  const auto& un = P.u[static_cast<std::size_t>(S.d)];
   const double dt = S.dt, wall_u = S.wall_velocity[static_cast<std::size_t>(S.d)];
   const int g = kGhost, n = P.n;
-  for (int f = g - 1; f <= g + n + 1; ++f) {
+  const int f0 = g - 1, f1 = g + n + 1;
+  // Every face as between two flow cells, in one branch-free loop (it vectorises); the faces beside
+  // the body are overwritten below.
+  {
+    const double* un = P.u[static_cast<std::size_t>(S.d)].data();
+    acousticFaces(f0, f1, dt, S.width, un, P.su.data(), P.sp.data(), P.rho.data(), P.P.data(), P.K.data(), P.Z.data(), P.ustar.data(),
+                  P.pstar.data());
+    const double* ustar = P.ustar.data();
+    const double* __restrict xf = S.xf;
+    const double* __restrict area = P.area.data();
+    double* __restrict dvol = P.dvol.data();
+    if (P.spherical) {
+      for (int f = f0; f <= f1; ++f) {
+        const double rf = xf[f], r1 = rf + ustar[f] * dt;
+        dvol[f] = (r1 * r1 * r1 - rf * rf * rf) / 3.0;
+      }
+    } else if (P.radial) {
+      for (int f = f0; f <= f1; ++f) {
+        const double rf = xf[f], disp = ustar[f] * dt;
+        dvol[f] = P.ring_width * 0.5 * ((rf + disp) * std::abs(rf + disp) - rf * std::abs(rf));
+      }
+    } else {
+      for (int f = f0; f <= f1; ++f) dvol[f] = area[f] * (ustar[f] * dt);
+    }
+  }
+  if (!anySolid(P)) return;
+  const auto& un = P.u[static_cast<std::size_t>(S.d)];
+  for (int f = f0; f <= f1; ++f) {
     const std::size_t L = static_cast<std::size_t>(f - 1), R = static_cast<std::size_t>(f), sf = static_cast<std::size_t>(f);
+    if (!(P.solid[L] | P.solid[R])) continue;
+    // a wall moving with the body: the flow's half of the Riemann problem, no swept volume
     const double hl = 0.5 * S.width[L], hr = 0.5 * S.width[R];
     const double uL = un[L] + hl * P.su[L] - 0.5 * dt * P.sp[L] / P.rho[L];
     const double pL = P.P[L] + hl * P.sp[L] - 0.5 * dt * P.K[L] * P.su[L];
     const double uR = un[R] - hr * P.su[R] - 0.5 * dt * P.sp[R] / P.rho[R];
     const double pR = P.P[R] - hr * P.sp[R] - 0.5 * dt * P.K[R] * P.su[R];
     const double zl = P.Z[L], zr = P.Z[R];
-    if (P.solid[L] | P.solid[R]) {
-      // a wall moving with the body: the flow's half of the Riemann problem, no swept volume
-      double ps = 0.0;
-      if (!P.solid[L]) ps = std::max(pL + zl * (uL - wall_u), P.pmin[L]);
-      else if (!P.solid[R]) ps = std::max(pR + zr * (wall_u - uR), P.pmin[R]);
-      P.ustar[sf] = wall_u;
-      P.pstar[sf] = ps;
-      P.dvol[sf] = S.grid_disp ? P.area[sf] * S.grid_disp[sf] : 0.0;   // the wall and its mesh face move together
-      // the load on the body at faces between an interior flow cell and an interior body cell
-      // (a body cell in the ghost layer is the boundary's: its work is booked there)
-      if ((P.solid[L] ^ P.solid[R]) && f >= g && f <= g + n) {
-        const bool body_right = P.solid[R] != 0;
-        if (!((body_right && f == g + n) || (!body_right && f == g))) {
-          const std::size_t fluid = body_right ? L : R;
-          const double sign = body_right ? 1.0 : -1.0;
-          ledger.target_work += sign * ps * P.area[sf] * dt * wall_u;
-          // by material against the ambient (reference) pressure: the air's share is then what the
-          // blast adds to the air's push, not the atmosphere on the plate's top; over the closed
-          // body the reference sums to zero, so the total is the load itself
-          const double imp = sign * (ps - S.load_reference) * P.area[sf] * dt;
-          // along axis 0 (the axis a domain is split along) a layer could reach past a slab's ghosts: the
-          // cell's own fractions there, so that the split is the same on any number of slabs
-          bookLoadByMaterial(P, S, static_cast<int>(fluid), body_right ? 1 : -1, static_cast<std::size_t>(S.d), sign * ps * P.area[sf] * dt, imp,
-                             S.d == 0, ledger);
-        }
+    double ps = 0.0;
+    if (!P.solid[L]) ps = std::max(pL + zl * (uL - wall_u), P.pmin[L]);
+    else if (!P.solid[R]) ps = std::max(pR + zr * (wall_u - uR), P.pmin[R]);
+    P.ustar[sf] = wall_u;
+    P.pstar[sf] = ps;
+    P.dvol[sf] = S.grid_disp ? P.area[sf] * S.grid_disp[sf] : 0.0;   // the wall and its mesh face move together
+    // the load on the body at faces between an interior flow cell and an interior body cell
+    // (a body cell in the ghost layer is the boundary's: its work is booked there)
+    if ((P.solid[L] ^ P.solid[R]) && f >= g && f <= g + n) {
+      const bool body_right = P.solid[R] != 0;
+      if (!((body_right && f == g + n) || (!body_right && f == g))) {
+        const std::size_t fluid = body_right ? L : R;
+        const double sign = body_right ? 1.0 : -1.0;
+        ledger.target_work += sign * ps * P.area[sf] * dt * wall_u;
+        // by material against the ambient (reference) pressure: the air's share is then what the
+        // blast adds to the air's push, not the atmosphere on the plate's top; over the closed
+        // body the reference sums to zero, so the total is the load itself
+        const double imp = sign * (ps - S.load_reference) * P.area[sf] * dt;
+        // along axis 0 (the axis a domain is split along) a layer could reach past a slab's ghosts: the
+        // cell's own fractions there, so that the split is the same on any number of slabs
+        bookLoadByMaterial(P, S, static_cast<int>(fluid), body_right ? 1 : -1, static_cast<std::size_t>(S.d), sign * ps * P.area[sf] * dt, imp,
+                           S.d == 0, ledger);
       }
-      continue;
-    }
-    const double zs = zl + zr;
-    const double us = (zl * uL + zr * uR + pL - pR) / zs;
-    P.ustar[sf] = us;
-    P.pstar[sf] = (zr * pL + zl * pR + zl * zr * (uL - uR)) / zs;
-    const double disp = us * dt, rf = S.xf[sf];
-    if (P.spherical) {
-      const double r1 = rf + disp;
-      P.dvol[sf] = (r1 * r1 * r1 - rf * rf * rf) / 3.0;
-    } else {
-      P.dvol[sf] = P.radial ? P.ring_width * 0.5 * ((rf + disp) * std::abs(rf + disp) - rf * std::abs(rf)) : P.area[sf] * disp;
     }
   }
 }
@@ -420,98 +476,207 @@ void closeMixedCell(MixedCell& c, double V, double Vl, double die) {
   }
 }
 
-void lagrangeUpdate(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
-  const int g = kGhost, n = P.n, M = P.M;
-  const std::size_t d = static_cast<std::size_t>(S.d);
-  const auto& un = P.u[d];
-  const double dt = S.dt, grav = S.gravity;
-  double gravity_work = ledger.gravity_work;   // summed in a register, in the same order
-  for (int i = g - 1; i <= g + n; ++i) {
-    const std::size_t si = static_cast<std::size_t>(i), fr = si + 1;
-    const bool interior = i >= g && i < g + n;
-    const double V = P.vol[si];
-    const double Vl = V + P.dvol[fr] - P.dvol[si];
-    P.vlag[si] = Vl;
-    double m = 0.0, ie = 0.0;
-    int present = 0;
-    for (int k = 0; k < M; ++k) {
-      const std::size_t ki = P.at(k, i);
-      present += P.a[ki] > kAlphaMin ? 1 : 0;
-      P.mk[ki] = P.a[ki] * P.r[ki] * V;
-      P.iek[ki] = P.mk[ki] * P.e[ki];
-      m += P.mk[ki];
-      ie += P.iek[ki];
-    }
-    P.mass[si] = m;
-    const double Al = P.area[si], Ar = P.area[fr];
+namespace {
+// The arrays one range of cells reads and writes in the Lagrange phase (lagrangeCells).
+struct LagrangeArrays {
+  const double *vol, *dvol, *area, *pstar, *ustar, *hoop, *mass, *ie, *u[3], *shear[2];
+  const unsigned char* solid;
+  double *vlag, *mom[3], *ke, *die, *w_grav;
+};
+
+// Cells i0 .. i1 - 1 of the Lagrange phase along axis D: momentum and total energy in flux form,
+// the kinetic energy after it and the internal energy change `die`, gravity's work per cell.
+// Walls: the pencil has body cells (no shear traction on the body's faces). Friction: the Coulomb
+// friction on the body's faces too (the cells beside the body, one by one). Without either, a
+// plain loop over restrict-qualified arrays that vectorises. The same arithmetic in the same order
+// in every variant.
+template <int D, bool Walls, bool Friction>
+[[gnu::noinline]] void lagrangeCells(std::ptrdiff_t i0, std::ptrdiff_t i1, double dt, double grav, double hoop_on, const double* __restrict vol,
+                          const double* __restrict dvol, const double* __restrict area, const double* __restrict pstar,
+                          const double* __restrict ustar, const double* __restrict hoop, const double* __restrict mass,
+                          const double* __restrict ie_cell, const double* __restrict u0, const double* __restrict u1,
+                          const double* __restrict u2, const double* __restrict sh0, const double* __restrict sh1,
+                          const unsigned char* __restrict solid, double* __restrict vlag, double* __restrict mom0, double* __restrict mom1,
+                          double* __restrict mom2, double* __restrict ke, double* __restrict die, double* __restrict w_grav,
+                          const Pencil* P = nullptr, const SweepSetup* S = nullptr, PencilLedger* ledger = nullptr, bool interior = false) {
+  constexpr int T1 = (D + 1) % 3, T2 = (D + 2) % 3;
+  // (chosen at compile time: a pointer read back from an array would lose its restrict)
+  const auto velocity = [&](auto axis) -> const double* {
+    constexpr int q = decltype(axis)::value;
+    if constexpr (q == 0) return u0;
+    else if constexpr (q == 1) return u1;
+    else return u2;
+  };
+  const double* __restrict const un = velocity(std::integral_constant<int, D>{});
+  for (std::ptrdiff_t i = i0; i < i1; ++i) {
+    const std::ptrdiff_t fr = i + 1;
+    const double V = vol[i];
+    vlag[i] = V + dvol[fr] - dvol[i];
+    const double m = mass[i], ie = ie_cell[i];
+    const double Al = area[i], Ar = area[fr];
     double ke0 = 0.0;
-    for (std::size_t q = 0; q < 3; ++q) ke0 += 0.5 * m * P.u[q][si] * P.u[q][si];
-    double E = ie + ke0 - dt * (Ar * P.pstar[fr] * P.ustar[fr] - Al * P.pstar[si] * P.ustar[si]);
+    ke0 += 0.5 * m * u0[i] * u0[i];
+    ke0 += 0.5 * m * u1[i] * u1[i];
+    ke0 += 0.5 * m * u2[i] * u2[i];
+    double E = ie + ke0 - dt * (Ar * pstar[fr] * ustar[fr] - Al * pstar[i] * ustar[i]);
     // normal momentum: faces, hoop stress (axisymmetric or spherical r: the areas' growth, dA, times
     // the mean hoop stress), gravity
-    double mn = m * un[si] - dt * (Ar * P.pstar[fr] - Al * P.pstar[si]) + dt * (Ar - Al) * P.hoop[si] * (P.radial ? 1.0 : 0.0);
+    const double mn = m * un[i] - dt * (Ar * pstar[fr] - Al * pstar[i]) + dt * (Ar - Al) * hoop[i] * hoop_on;
     const double mn_g = mn + dt * m * grav;
-    const double w_grav = dt * grav * 0.5 * (mn + mn_g);
-    E += w_grav;
-    if (interior && !P.solid[si]) gravity_work += w_grav;   // the body's cells are not the flow's
-    P.mom[d][si] = mn_g;
-    // transverse momentum from the shear tractions
-    for (int tt = 0; tt < 2; ++tt) {
-      const std::size_t comp = static_cast<std::size_t>(tt == 0 ? S.t1 : S.t2);
-      const auto& sh = P.shear[static_cast<std::size_t>(tt)];
-      const auto& ut = P.u[comp];
-      double tr = 0.5 * (sh[si] + sh[si + 1]), tl = 0.5 * (sh[si - 1] + sh[si]);
-      if (P.solid[si] | P.solid[si + 1]) tr = 0.0;   // free slip on the body: no shear traction
-      if (P.solid[si - 1] | P.solid[si]) tl = 0.0;
-      const double ur = 0.5 * (ut[si] + ut[si + 1]), ul = 0.5 * (ut[si - 1] + ut[si]);
-      P.mom[comp][si] = m * ut[si] + dt * (Ar * tr - Al * tl);
+    const double wg = dt * grav * 0.5 * (mn + mn_g);
+    E += wg;
+    w_grav[i] = wg;
+    double mom_new[3];
+    mom_new[D] = mn_g;
+    // transverse momentum from the shear tractions (free slip on the body: no shear traction)
+    const auto transverse = [&](auto comp_constant, const double* __restrict s) {
+      constexpr int comp = decltype(comp_constant)::value;
+      const double* __restrict const ut = velocity(comp_constant);
+      double tr = 0.5 * (s[i] + s[i + 1]), tl = 0.5 * (s[i - 1] + s[i]);
+      if constexpr (Walls) {
+        if (solid[i] | solid[i + 1]) tr = 0.0;
+        if (solid[i - 1] | solid[i]) tl = 0.0;
+      }
+      const double ur = 0.5 * (ut[i] + ut[i + 1]), ul = 0.5 * (ut[i - 1] + ut[i]);
+      mom_new[comp] = m * ut[i] + dt * (Ar * tr - Al * tl);
       E += dt * (Ar * tr * ur - Al * tl * ul);
-      if (S.friction > 0.0 && !P.solid[si] && (P.solid[si - 1] | P.solid[si + 1])) {
+      if constexpr (Friction) {
         // Coulomb friction on the body's face: mu times the compressive normal stress, opposing
         // the sliding, never reversing it within a step. The body gains the momentum the flow
         // loses and the work at its own velocity; the rest of the kinetic energy removed stays in
         // the cell's total energy, i.e. becomes heat.
-        const double pn = std::max(P.solid[si + 1] ? P.pstar[fr] : 0.0, 0.0) * Ar + std::max(P.solid[si - 1] ? P.pstar[si] : 0.0, 0.0) * Al;
-        const double slide = P.mom[comp][si] - m * S.wall_velocity[comp];
-        const double taken = std::copysign(std::min(S.friction * pn * dt, std::abs(slide)), slide);
-        P.mom[comp][si] -= taken;
-        const double w_body = taken * S.wall_velocity[comp];
+        const double pn = std::max(solid[i + 1] ? pstar[fr] : 0.0, 0.0) * Ar + std::max(solid[i - 1] ? pstar[i] : 0.0, 0.0) * Al;
+        constexpr auto cu = static_cast<std::size_t>(comp);
+        const double slide = mom_new[comp] - m * S->wall_velocity[cu];
+        const double taken = std::copysign(std::min(S->friction * pn * dt, std::abs(slide)), slide);
+        mom_new[comp] -= taken;
+        const double w_body = taken * S->wall_velocity[cu];
         E -= w_body;
         if (interior) {
-          ledger.target_work += w_body;
+          ledger->target_work += w_body;
           // the friction by the cell's own fractions at every depth along axis 0 (a layer there could
           // reach past a slab's ghosts) and between two body faces (there is no layer)
-          const bool cell_only = S.d == 0 || (P.solid[si - 1] && P.solid[si + 1]);
-          bookLoadByMaterial(P, S, i, P.solid[si + 1] ? 1 : -1, comp, taken, taken, cell_only, ledger);
+          const bool cell_only = D == 0 || (solid[i - 1] && solid[i + 1]);
+          bookLoadByMaterial(*P, *S, static_cast<int>(i), solid[i + 1] ? 1 : -1, cu, taken, taken, cell_only, *ledger);
         }
       }
-    }
-    double ke1 = 0.0;
+    };
+    transverse(std::integral_constant<int, T1>{}, sh0);
+    transverse(std::integral_constant<int, T2>{}, sh1);
     const double inv_m = 1.0 / m;
-    for (std::size_t q = 0; q < 3; ++q) ke1 += 0.5 * P.mom[q][si] * P.mom[q][si] * inv_m;
-    P.ke[si] = ke1;
-    const double die = E - ke1 - ie;
-    if (present <= 1) {   // closeMixedCell's own answer for a cell of one material, without the copies
-      for (int k = 0; k < M; ++k) {
-        const std::size_t ki = P.at(k, i);
-        P.vk[ki] = P.a[ki] * Vl;
-        if (P.a[ki] > kAlphaMin) P.iek[ki] += die;
-      }
-      continue;
+    double ke1 = 0.0;
+    ke1 += 0.5 * mom_new[0] * mom_new[0] * inv_m;
+    ke1 += 0.5 * mom_new[1] * mom_new[1] * inv_m;
+    ke1 += 0.5 * mom_new[2] * mom_new[2] * inv_m;
+    mom0[i] = mom_new[0];
+    mom1[i] = mom_new[1];
+    mom2[i] = mom_new[2];
+    ke[i] = ke1;
+    die[i] = E - ke1 - ie;
+  }
+}
+
+template <int D>
+void lagrangeAlong(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
+  const int g = kGhost, n = P.n;
+  const double hoop_on = P.radial ? 1.0 : 0.0;
+  const auto run = [&](auto walls, auto friction, std::ptrdiff_t i0, std::ptrdiff_t i1, bool interior) {
+    lagrangeCells<D, decltype(walls)::value, decltype(friction)::value>(
+        i0, i1, S.dt, S.gravity, hoop_on, P.vol.data(), P.dvol.data(), P.area.data(), P.pstar.data(), P.ustar.data(), P.hoop.data(),
+        P.mass.data(), P.ie_cell.data(), P.u[0].data(), P.u[1].data(), P.u[2].data(), P.shear[0].data(), P.shear[1].data(), P.solid.data(),
+        P.vlag.data(), P.mom[0].data(), P.mom[1].data(), P.mom[2].data(), P.ke.data(), P.die.data(), P.w_grav.data(), &P, &S, &ledger,
+        interior);
+  };
+  if (!anySolid(P)) {
+    run(std::false_type{}, std::false_type{}, g - 1, g + n + 1, false);
+    return;
+  }
+  run(std::true_type{}, std::false_type{}, g - 1, g + n + 1, false);
+  if (S.friction > 0.0) {
+    // the cells beside the body again, with the friction (the same arithmetic, in the same order)
+    for (int i = g - 1; i <= g + n; ++i) {
+      const std::size_t si = static_cast<std::size_t>(i);
+      if (!P.solid[si] && (P.solid[si - 1] | P.solid[si + 1])) run(std::true_type{}, std::true_type{}, i, i + 1, i >= g && i < g + n);
     }
+  }
+}
+// One material's mass and internal energy in cells i0 .. i1 - 1, added to the cells' sums (in the
+// materials' order), and whether it is present (above kAlphaMin).
+[[gnu::noinline]] void materialMassAndEnergy(std::ptrdiff_t i0, std::ptrdiff_t i1, const double* __restrict a, const double* __restrict r,
+                                             const double* __restrict e, const double* __restrict vol, double* __restrict mk,
+                                             double* __restrict iek, double* __restrict mass, double* __restrict ie,
+                                             double* __restrict present) {
+  for (std::ptrdiff_t i = i0; i < i1; ++i) {
+    present[i] += a[i] > kAlphaMin ? 1.0 : 0.0;
+    mk[i] = a[i] * r[i] * vol[i];
+    iek[i] = mk[i] * e[i];
+    mass[i] += mk[i];
+    ie[i] += iek[i];
+  }
+}
+
+// closeMixedCell's own answer for the cells of one material (at most one above kAlphaMin), without
+// the copies: each material's volume alpha Vl, the heat to the one present. Mixed cells keep their
+// values here (the closure sets them).
+[[gnu::noinline]] void singleMaterialClosure(std::ptrdiff_t i0, std::ptrdiff_t i1, const double* __restrict a, const double* __restrict vlag,
+                                             const double* __restrict die, const double* __restrict present, double* __restrict vk,
+                                             double* __restrict iek) {
+  for (std::ptrdiff_t i = i0; i < i1; ++i) {
+    const bool single = present[i] <= 1.0;
+    vk[i] = single ? a[i] * vlag[i] : vk[i];
+    iek[i] = (single & (a[i] > kAlphaMin)) ? iek[i] + die[i] : iek[i];
+  }
+}
+}  // namespace
+
+void lagrangeUpdate(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
+  const int g = kGhost, n = P.n, M = P.M;
+  const double dt = S.dt;
+  const std::ptrdiff_t i0 = g - 1, i1 = g + n + 1;
+  // each material's mass and internal energy, the cell's sums in the materials' order
+  for (std::ptrdiff_t i = i0; i < i1; ++i) {
+    const std::size_t si = static_cast<std::size_t>(i);
+    P.mass[si] = 0.0;
+    P.ie_cell[si] = 0.0;
+    P.present[si] = 0.0;
+  }
+  for (int k = 0; k < M; ++k) {
+    const std::size_t base = P.at(k, 0);
+    materialMassAndEnergy(i0, i1, P.a.data() + base, P.r.data() + base, P.e.data() + base, P.vol.data(), P.mk.data() + base,
+                          P.iek.data() + base, P.mass.data(), P.ie_cell.data(), P.present.data());
+  }
+  switch (S.d) {
+    case 0: lagrangeAlong<0>(P, S, ledger); break;
+    case 1: lagrangeAlong<1>(P, S, ledger); break;
+    default: lagrangeAlong<2>(P, S, ledger); break;
+  }
+  double gravity_work = ledger.gravity_work;   // in the cells' order
+  for (std::ptrdiff_t i = g; i < g + n; ++i) {
+    const std::size_t si = static_cast<std::size_t>(i);
+    if (!P.solid[si]) gravity_work += P.w_grav[si];   // the body's cells are not the flow's
+  }
+  // The closure: a cell of one material takes closeMixedCell's own answer (singleMaterialClosure),
+  // a mixed cell the closure itself.
+  for (int k = 0; k < M; ++k) {
+    const std::size_t base = P.at(k, 0);
+    singleMaterialClosure(i0, i1, P.a.data() + base, P.vlag.data(), P.die.data(), P.present.data(), P.vk.data() + base, P.iek.data() + base);
+  }
+  for (std::ptrdiff_t i = i0; i < i1; ++i) {
+    const std::size_t si = static_cast<std::size_t>(i);
+    if (P.present[si] <= 1.0) continue;
     MixedCell c;
     c.M = M;
     for (int k = 0; k < M; ++k) {
-      const std::size_t ki = P.at(k, i);
+      const std::size_t ki = P.at(k, static_cast<int>(i));
       c.alpha[k] = P.a[ki];
       c.p[k] = P.pk[ki];
       c.K[k] = P.kk[ki];
       c.m[k] = P.mk[ki];
       c.ie[k] = P.iek[ki];
     }
-    closeMixedCell(c, V, Vl, die);
+    closeMixedCell(c, P.vol[si], P.vlag[si], P.die[si]);
     for (int k = 0; k < M; ++k) {
-      const std::size_t ki = P.at(k, i);
+      const std::size_t ki = P.at(k, static_cast<int>(i));
       P.vk[ki] = c.v[k];
       P.iek[ki] = c.ie[k];
     }

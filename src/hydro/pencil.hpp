@@ -50,6 +50,9 @@ struct Pencil {
   std::vector<double> vlag, mass, ke;
   std::array<std::vector<double>, 3> mom;
   std::vector<double> vk, mk, iek;
+  std::vector<double> sum_snn, sum_s11;        // the gather's mixture sums of two stress components
+  std::vector<double> ie_cell, die, w_grav;   // the cell's internal energy, its change, gravity's work
+  std::vector<double> present;   // how many materials are above kAlphaMin in the cell (a double: the loops that count it vectorise)
   // remap fluxes at faces (signed, + along the axis)
   std::vector<double> fv, fm, fe, fh, fkek;   // per material: volume, mass, internal energy, history, kinetic energy
   std::array<std::vector<double>, 6> fs;

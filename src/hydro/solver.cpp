@@ -878,6 +878,37 @@ void Solver::updateStress(double dt) {
 // ------------------------------------------------------------------------------------------------
 // One sweep along axis d: gather each pencil, run the kernels (pencil.hpp), scatter it back.
 
+namespace {
+// One material's share of the cells' mixture (gatherPencil): density, pressure, stiffness and
+// tension limit by volume fraction, added in the materials' order (an absent one adds zeros).
+[[gnu::noinline]] void addToMixture(std::ptrdiff_t n, double tension, const double* __restrict a, const double* __restrict r,
+                                    const double* __restrict pk, const double* __restrict kk, double* __restrict rho, double* __restrict p,
+                                    double* __restrict kv, double* __restrict pmin) {
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    const double al = a[i] > 0.0 ? a[i] : 0.0;
+    rho[i] += al * r[i];
+    p[i] += al * pk[i];
+    kv[i] += al * kk[i];
+    pmin[i] += al * tension;
+  }
+}
+// The same for the deviatoric stress of a material with strength: the normal component along the
+// sweep, the hoop (zz) and rr components, and the two shear components on the sweep's faces.
+[[gnu::noinline]] void addStressToMixture(std::ptrdiff_t n, const double* __restrict a, const double* __restrict s_nn,
+                                          const double* __restrict s_tt, const double* __restrict s_11, const double* __restrict s_dt1,
+                                          const double* __restrict s_dt2, double* __restrict snn, double* __restrict stt,
+                                          double* __restrict s11, double* __restrict sh1, double* __restrict sh2) {
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    const double al = a[i] > 0.0 ? a[i] : 0.0;
+    snn[i] += al * s_nn[i];
+    stt[i] += al * s_tt[i];
+    s11[i] += al * s_11[i];
+    sh1[i] += al * s_dt1[i];
+    sh2[i] += al * s_dt2[i];
+  }
+}
+}  // namespace
+
 void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, const SweepSetup& S) const {
   const int N = P.N, M = P.M;
   const std::ptrdiff_t stride = grid_.stride(d);
@@ -920,16 +951,22 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
   P.ring_width = radial ? trans : 0.0;
   P.radial = radial;
   P.spherical = spherical;
-  // state and equation of state
+  // State and equation of state, material by material (the kind switched on once a material, so
+  // that a gas's loop vectorises), then the mixture's sums in the materials' order. An absent
+  // material (fraction not above zero) adds zeros: the same sums as skipping it.
   for (int i = 0; i < N; ++i) {
     const std::size_t c = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(base) + i * stride), si = static_cast<std::size_t>(i);
     for (std::size_t q = 0; q < 3; ++q) P.u[q][si] = u_[q][c];
     P.solid[si] = body_.empty() ? 0 : body_[c];
-    double rho = 0.0, p = 0.0, kv = 0.0, snn = 0.0, stt = 0.0, s11 = 0.0, sh1 = 0.0, sh2 = 0.0, pmin = 0.0;
-    for (int k = 0; k < M; ++k) {
-      const auto km = static_cast<std::size_t>(P.mat[k]);
-      const auto& F = fields_[km];
-      const auto& mat = mats_[km];
+    P.rho[si] = P.P[si] = P.K[si] = P.pmin[si] = P.hoop[si] = P.shear[0][si] = P.shear[1][si] = P.sum_snn[si] = P.sum_s11[si] = 0.0;
+  }
+  for (int k = 0; k < M; ++k) {
+    const auto km = static_cast<std::size_t>(P.mat[k]);
+    const auto& F = fields_[km];
+    const auto& mat = mats_[km];
+    const bool strength = !F.s[0].empty();
+    for (int i = 0; i < N; ++i) {
+      const std::size_t c = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(base) + i * stride);
       const std::size_t ki = P.at(k, i);
       const double al = F.alpha[c];
       P.a[ki] = al;
@@ -941,12 +978,7 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
         // Its interface weight multiplies a zero volume in remapFluxes, whatever it is. Nor is its
         // density read: only a sliver arriving here takes it (scatterPencil reads it then), and its
         // mass a r V is zero either way.
-        P.r[ki] = 0.0;
-        P.wl[ki] = 0.0;
-        P.e[ki] = 0.0;
-        P.h[ki] = 0.0;
-        P.pk[ki] = 0.0;
-        P.kk[ki] = 0.0;
+        P.r[ki] = P.wl[ki] = P.e[ki] = P.h[ki] = 0.0;
         if (!P.strengthless[k])
           for (std::size_t q = 0; q < 6; ++q) P.s[q][ki] = 0.0;
         continue;
@@ -954,30 +986,26 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
       P.r[ki] = F.rho[c];
       P.wl[ki] = several ? wlic_[km * total_cells + c] : 1.0;
       P.e[ki] = F.e[c];
-      const auto st = materials::evaluateEosAndHistory(mat, F.rho[c], F.e[c], F.h0[c], P.h[ki]);
-      P.pk[ki] = st.pressure;
-      P.kk[ki] = st.bulk;
-      rho += al * F.rho[c];
-      p += al * st.pressure;
-      kv += al * st.bulk;
-      pmin += al * materials::tensionLimit(mat);
-      if (!F.s[0].empty()) {
+      P.h[ki] = F.h0[c];
+      if (strength)
         for (std::size_t q = 0; q < 6; ++q) P.s[q][ki] = F.s[q][c];
-        snn += al * F.s[static_cast<std::size_t>(d)][c];
-        stt += al * F.s[2][c];
-        s11 += al * F.s[1][c];
-        sh1 += al * F.s[static_cast<std::size_t>(s_dt1)][c];
-        sh2 += al * F.s[static_cast<std::size_t>(s_dt2)][c];
-      }
     }
-    P.rho[si] = rho;
-    P.P[si] = p - snn;
-    P.hoop[si] = p - (spherical ? 0.5 * (stt + s11) : stt);
-    P.K[si] = kv;
-    P.pmin[si] = pmin;
-    P.Z[si] = std::sqrt(std::max(rho * kv, 1e-30));
-    P.shear[0][si] = sh1;
-    P.shear[1][si] = sh2;
+    const std::size_t k0 = P.at(k, 0);
+    materials::evaluateEosAndHistory(mat, N, P.a.data() + k0, P.r.data() + k0, P.e.data() + k0, P.h.data() + k0, P.pk.data() + k0,
+                                     P.kk.data() + k0);
+    addToMixture(N, materials::tensionLimit(mat), P.a.data() + k0, P.r.data() + k0, P.pk.data() + k0, P.kk.data() + k0, P.rho.data(),
+                 P.P.data(), P.K.data(), P.pmin.data());
+    if (strength)
+      addStressToMixture(N, P.a.data() + k0, P.s[static_cast<std::size_t>(d)].data() + k0, P.s[2].data() + k0, P.s[1].data() + k0,
+                         P.s[static_cast<std::size_t>(s_dt1)].data() + k0, P.s[static_cast<std::size_t>(s_dt2)].data() + k0,
+                         P.sum_snn.data(), P.hoop.data(), P.sum_s11.data(), P.shear[0].data(), P.shear[1].data());
+  }
+  for (int i = 0; i < N; ++i) {
+    const std::size_t si = static_cast<std::size_t>(i);
+    const double p = P.P[si], stt = P.hoop[si];
+    P.P[si] = p - P.sum_snn[si];
+    P.hoop[si] = p - (spherical ? 0.5 * (stt + P.sum_s11[si]) : stt);
+    P.Z[si] = std::sqrt(std::max(P.rho[si] * P.K[si], 1e-30));
   }
 }
 

@@ -193,3 +193,40 @@ double JwlIsentrope::energy(double relative_volume) const {
 }
 
 }  // namespace ejecta::materials
+
+namespace ejecta::materials {
+namespace {
+// An ideal gas's batch (evaluateEosAndHistory): a plain loop over restrict-qualified arrays, which
+// vectorises. Its history is its h0, left as it is.
+[[gnu::noinline]] void idealGasBatch(double gamma, std::ptrdiff_t n, const double* __restrict alpha, const double* __restrict rho,
+                                     const double* __restrict e, double* __restrict pressure, double* __restrict bulk) {
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    const double ei = e[i] > 0.0 ? e[i] : 0.0;
+    const double p = (gamma - 1.0) * rho[i] * ei, k = gamma * p + 1e-6;
+    const bool present = alpha[i] > 0.0;
+    pressure[i] = present ? p : 0.0;
+    bulk[i] = present ? k : 0.0;
+  }
+}
+}  // namespace
+
+void evaluateEosAndHistory(const Material& m, std::ptrdiff_t n, const double* alpha, const double* rho, const double* e, double* history,
+                           double* pressure, double* bulk) noexcept {
+  if (m.eos == EosKind::IdealGas) {
+    idealGasBatch(m.gas.gamma, n, alpha, rho, e, pressure, bulk);
+    for (std::ptrdiff_t i = 0; i < n; ++i)
+      if (!(alpha[i] > 0.0)) history[i] = 0.0;
+    return;
+  }
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    if (!(alpha[i] > 0.0)) {
+      pressure[i] = bulk[i] = history[i] = 0.0;
+      continue;
+    }
+    const double h0 = history[i];
+    const auto st = evaluateEosAndHistory(m, rho[i], e[i], h0, history[i]);
+    pressure[i] = st.pressure;
+    bulk[i] = st.bulk;
+  }
+}
+}  // namespace ejecta::materials

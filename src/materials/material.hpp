@@ -4,6 +4,7 @@
 // strength model (none, von Mises elastic-perfectly-plastic, the sand's pseudo-tensor yield vs
 // pressure). The solver switches on the kind once per batch of cells; evaluation is a small
 // inline function with no allocation. SI units: kg/m3, J/kg, Pa, m/s.
+#include <cstddef>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -168,6 +169,13 @@ inline EosState evaluateEosAndHistory(const Material& m, double rho, double e, d
   const auto r = m.sand->evaluate(x, h0, e);
   return {r.pressure, r.bulk_modulus};
 }
+
+// evaluateEosAndHistory over cells 0 .. n-1 where the fraction `alpha` is above zero; elsewhere
+// pressure, bulk and history are 0. `history` holds h0 on entry and the history on return. The
+// kind is switched on once for the batch, so that an ideal gas's loop vectorises; the same numbers
+// as the call per cell.
+void evaluateEosAndHistory(const Material& m, std::ptrdiff_t n, const double* alpha, const double* rho, const double* e, double* history,
+                           double* pressure, double* bulk) noexcept;
 
 // Shear modulus (Pa) and yield strength (Pa) at pressure p, for materials with strength.
 inline double shearModulus(const Material& m, double h0) noexcept {
