@@ -203,8 +203,8 @@ static void bookLoadByMaterial(const Pencil& P, const SweepSetup& S, int fluid, 
 
 // van Leer-limited slopes of u and p in cells 1 .. N-2 (computeSlopes): restrict-qualified, so that
 // the loop vectorises.
-static void limitedSlopes(std::ptrdiff_t N, const double* __restrict inv_dx, const double* __restrict un, const double* __restrict p,
-                          double* __restrict su, double* __restrict sp) {
+[[gnu::noinline]] static void limitedSlopes(std::ptrdiff_t N, const double* __restrict inv_dx, const double* __restrict un, const double* __restrict p,
+                                            double* __restrict su, double* __restrict sp) {
   for (std::ptrdiff_t i = 1; i < N - 1; ++i) {
     const double il = inv_dx[i], ir = inv_dx[i + 1];
     su[i] = vanLeer((un[i] - un[i - 1]) * il, (un[i + 1] - un[i]) * ir);
@@ -226,19 +226,26 @@ void computeSlopes(Pencil& P, const SweepSetup& S) {
   }
 }
 
-// The acoustic Riemann problem at faces f0 .. f1 from MUSCL-Hancock states (solveFaces): a plain
-// loop over restrict-qualified arrays, so that it vectorises.
-static void acousticFaces(std::ptrdiff_t f0, std::ptrdiff_t f1, double dt, const double* __restrict width, const double* __restrict un,
-                   const double* __restrict su, const double* __restrict sp, const double* __restrict rho, const double* __restrict p,
-                   const double* __restrict K, const double* __restrict Z, double* __restrict ustar, double* __restrict pstar) {
+// The MUSCL-Hancock states on the two sides of the face between cells L and R: velocity and
+// normal stress extrapolated by half a cell and advanced by half a step.
+struct FaceStates {
+  double uL, pL, uR, pR;
+};
+inline FaceStates hancockStates(std::ptrdiff_t L, std::ptrdiff_t R, double dt, const double* width, const double* un, const double* su,
+                                const double* sp, const double* rho, const double* p, const double* K) {
+  const double hl = 0.5 * width[L], hr = 0.5 * width[R];
+  return {un[L] + hl * su[L] - 0.5 * dt * sp[L] / rho[L], p[L] + hl * sp[L] - 0.5 * dt * K[L] * su[L],
+          un[R] - hr * su[R] - 0.5 * dt * sp[R] / rho[R], p[R] - hr * sp[R] - 0.5 * dt * K[R] * su[R]};
+}
+
+// The acoustic Riemann problem at faces f0 .. f1 (solveFaces): a plain loop over restrict-qualified
+// arrays, so that it vectorises.
+[[gnu::noinline]] static void acousticFaces(std::ptrdiff_t f0, std::ptrdiff_t f1, double dt, const double* __restrict width, const double* __restrict un,
+                                            const double* __restrict su, const double* __restrict sp, const double* __restrict rho, const double* __restrict p,
+                                            const double* __restrict K, const double* __restrict Z, double* __restrict ustar, double* __restrict pstar) {
   for (std::ptrdiff_t f = f0; f <= f1; ++f) {
-    const std::ptrdiff_t L = f - 1, R = f;
-    const double hl = 0.5 * width[L], hr = 0.5 * width[R];
-    const double uL = un[L] + hl * su[L] - 0.5 * dt * sp[L] / rho[L];
-    const double pL = p[L] + hl * sp[L] - 0.5 * dt * K[L] * su[L];
-    const double uR = un[R] - hr * su[R] - 0.5 * dt * sp[R] / rho[R];
-    const double pR = p[R] - hr * sp[R] - 0.5 * dt * K[R] * su[R];
-    const double zl = Z[L], zr = Z[R];
+    const auto [uL, pL, uR, pR] = hancockStates(f - 1, f, dt, width, un, su, sp, rho, p, K);
+    const double zl = Z[f - 1], zr = Z[f];
     const double zs = zl + zr;
     ustar[f] = (zl * uL + zr * uR + pL - pR) / zs;
     pstar[f] = (zr * pL + zl * pR + zl * zr * (uL - uR)) / zs;
@@ -279,11 +286,7 @@ void solveFaces(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     const std::size_t L = static_cast<std::size_t>(f - 1), R = static_cast<std::size_t>(f), sf = static_cast<std::size_t>(f);
     if (!(P.solid[L] | P.solid[R])) continue;
     // a wall moving with the body: the flow's half of the Riemann problem, no swept volume
-    const double hl = 0.5 * S.width[L], hr = 0.5 * S.width[R];
-    const double uL = un[L] + hl * P.su[L] - 0.5 * dt * P.sp[L] / P.rho[L];
-    const double pL = P.P[L] + hl * P.sp[L] - 0.5 * dt * P.K[L] * P.su[L];
-    const double uR = un[R] - hr * P.su[R] - 0.5 * dt * P.sp[R] / P.rho[R];
-    const double pR = P.P[R] - hr * P.sp[R] - 0.5 * dt * P.K[R] * P.su[R];
+    const auto [uL, pL, uR, pR] = hancockStates(f - 1, f, dt, S.width, un.data(), P.su.data(), P.sp.data(), P.rho.data(), P.P.data(), P.K.data());
     const double zl = P.Z[L], zr = P.Z[R];
     double ps = 0.0;
     if (!P.solid[L]) ps = std::max(pL + zl * (uL - wall_u), P.pmin[L]);
