@@ -295,11 +295,18 @@ int runSweep(const SweepOptions& o) {
     }
   }
   writeIndex(failed ? "failed" : "complete");
-  // an earlier, larger study's case folders (run folders: runCase writes a case whole) are not this one's
+  // an earlier, larger study's case folders (run folders: runCase writes a case whole) are not this
+  // one's, nor the staging folders its interrupted cases left (.case_NNN.staging-PID, a checkpoint)
+  std::set<std::string> gone;   // the cases' names
   for (const auto& entry : fs::directory_iterator(out)) {
-    const auto k = caseIndex(entry.path().filename().string());
+    const std::string name = entry.path().filename().string();
+    const auto k = caseIndex(name);
     if (k && *k >= combos.size() && entry.is_directory() && fs::exists(entry.path() / "summary.json")) fs::remove_all(entry.path());
+    const auto staged = name.find(".staging-");
+    if (name.size() > 1 && name[0] == '.' && staged != std::string::npos)
+      if (const auto ks = caseIndex(name.substr(1, staged - 1)); ks && *ks >= combos.size()) gone.insert(name.substr(1, staged - 1));
   }
+  for (const auto& name : gone) scenario::removeLeftStages((out / name).string());
   // the plot last, on its own: a plot that cannot be drawn (no matplotlib) is said, the index stands
   bool plotted = false;
   if (o.plot && failed < combos.size()) {

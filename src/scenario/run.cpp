@@ -1071,6 +1071,20 @@ std::string leftCheckpoint(const std::string& out_dir) {
   return best.string();
 }
 
+void removeLeftStages(const std::string& out_dir) {
+  const fs::path out = runFolder(out_dir);
+  const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
+  const std::string prefix = stagingPrefix(out);
+  std::error_code ec;
+  std::vector<fs::path> dead;
+  if (fs::is_directory(parent, ec))
+    for (const auto& entry : fs::directory_iterator(parent, ec)) {
+      const long pid = stagePid(entry.path().filename().string(), prefix);
+      if (pid != 0 && !processAlive(pid)) dead.push_back(entry.path());
+    }
+  for (const auto& p : dead) fs::remove_all(p, ec);
+}
+
 void checkCase(const Deck& deck) {
   const Case cs = buildCase(deck);
   checkSetUp(deck, cs, true);

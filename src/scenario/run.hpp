@@ -77,5 +77,8 @@ int interruptedBy();
 // (.NAME.staging-PID/checkpoint.bin, its process gone; the newest if several), or "" if none:
 // what `--reuse` in a study continues a case from.
 std::string leftCheckpoint(const std::string& out_dir);
+// Removes the staging folders that runs into `out_dir` left and whose processes are gone (an
+// interrupted run's, with its checkpoint): for a study that no longer has that case.
+void removeLeftStages(const std::string& out_dir);
 
 }  // namespace ejecta::scenario

@@ -298,7 +298,14 @@ check "sweep: a failed case recorded, the rest kept, exit 2 ($(tail -1 f.err))" 
 # a smaller study into the same folder: the larger one's case folders go
 rm -r si/case_002
 "$ejecta" sweep "${sw[@]}" --set end_time_s=0.003 --vary target.standoff_m=0,0.05,0.1 --no-plot --out si --reuse > /dev/null 2>&1
+# ... and the staging folder an interrupted extra case left (its process gone), but not a live run's
+sh -c 'exit 0' & dead=$!
+wait $dead
+mkdir -p "si/.case_002.staging-$dead" "si/.case_003.staging-$$"
+touch "si/.case_002.staging-$dead/checkpoint.bin"
 "$ejecta" sweep "${sw[@]}" --set end_time_s=0.003 --vary target.standoff_m=0,0.05 --no-plot --out si --reuse > /dev/null 2>&1; rc=$?
-check "sweep: an earlier study's extra case folders removed" "[[ $rc -eq 0 ]] && [[ \$(ls si | tr '\n' ' ') == 'case_000 case_001 sweep.csv sweep.json ' ]]"
+check "sweep: an earlier study's extra case folders removed, and a dead extra case's staging folder" \
+  "[[ $rc -eq 0 ]] && [[ \$(ls si | tr '\n' ' ') == 'case_000 case_001 sweep.csv sweep.json ' ]] && [[ ! -e si/.case_002.staging-$dead && -d si/.case_003.staging-$$ ]]"
+rm -r "si/.case_003.staging-$$"
 
 finish
