@@ -226,6 +226,7 @@ void computeSlopes(Pencil& P, const SweepSetup& S) {
   }
 }
 
+namespace {
 // The MUSCL-Hancock states on the two sides of the face between cells L and R: velocity and
 // normal stress extrapolated by half a cell and advanced by half a step.
 struct FaceStates {
@@ -237,6 +238,7 @@ inline FaceStates hancockStates(std::ptrdiff_t L, std::ptrdiff_t R, double dt, c
   return {un[L] + hl * su[L] - 0.5 * dt * sp[L] / rho[L], p[L] + hl * sp[L] - 0.5 * dt * K[L] * su[L],
           un[R] - hr * su[R] - 0.5 * dt * sp[R] / rho[R], p[R] - hr * sp[R] - 0.5 * dt * K[R] * su[R]};
 }
+}  // namespace
 
 // The acoustic Riemann problem at faces f0 .. f1 (solveFaces): a plain loop over restrict-qualified
 // arrays, so that it vectorises.
@@ -480,13 +482,6 @@ void closeMixedCell(MixedCell& c, double V, double Vl, double die) {
 }
 
 namespace {
-// The arrays one range of cells reads and writes in the Lagrange phase (lagrangeCells).
-struct LagrangeArrays {
-  const double *vol, *dvol, *area, *pstar, *ustar, *hoop, *mass, *ie, *u[3], *shear[2];
-  const unsigned char* solid;
-  double *vlag, *mom[3], *ke, *die, *w_grav;
-};
-
 // Cells i0 .. i1 - 1 of the Lagrange phase along axis D: momentum and total energy in flux form,
 // the kinetic energy after it and the internal energy change `die`, gravity's work per cell.
 // Walls: the pencil has body cells (no shear traction on the body's faces). Friction: the Coulomb

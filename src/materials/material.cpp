@@ -192,12 +192,11 @@ double JwlIsentrope::energy(double relative_volume) const {
   return e_[i] + w * (e_[i + 1] - e_[i]);
 }
 
-}  // namespace ejecta::materials
 
-namespace ejecta::materials {
 namespace {
-// An ideal gas's batch (evaluateEosAndHistory): a plain loop over restrict-qualified arrays, which
-// vectorises. Its history is its h0, left as it is.
+// An ideal gas's batch (evaluateEosAndHistory): a plain loop over restrict-qualified arrays. (GCC 12
+// leaves it scalar: it sinks the density's load into a branch; docs/solver.md, Speed.) Its history
+// is its h0, left as it is.
 [[gnu::noinline]] void idealGasBatch(double gamma, std::ptrdiff_t n, const double* __restrict alpha, const double* __restrict rho,
                                      const double* __restrict e, double* __restrict pressure, double* __restrict bulk) {
   for (std::ptrdiff_t i = 0; i < n; ++i) {

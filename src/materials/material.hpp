@@ -172,8 +172,7 @@ inline EosState evaluateEosAndHistory(const Material& m, double rho, double e, d
 
 // evaluateEosAndHistory over cells 0 .. n-1 where the fraction `alpha` is above zero; elsewhere
 // pressure, bulk and history are 0. `history` holds h0 on entry and the history on return. The
-// kind is switched on once for the batch, so that an ideal gas's loop vectorises; the same numbers
-// as the call per cell.
+// kind is switched on once for the batch; the same numbers as the call per cell.
 void evaluateEosAndHistory(const Material& m, std::ptrdiff_t n, const double* alpha, const double* rho, const double* e, double* history,
                            double* pressure, double* bulk) noexcept;
 
