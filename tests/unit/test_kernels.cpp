@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <numeric>
 
 #include "core/error.hpp"
@@ -795,3 +797,41 @@ TEST(Solver, PencilsCarryingOnlyTheirMaterialsGiveTheSameResultToTheBit) {
 }
 
 }  // namespace
+
+// The gather's equation of state over a pencil (one call per material, the kind switched once)
+// gives each cell what the call per cell gives, to the bit, and zeros where the material is absent
+// (pressure, bulk and history, whatever its fields hold): air, products part-burnt, wet sand
+// loaded and unloaded, water.
+TEST(EosBatch, SameAsOneCellAtATimeToTheBit) {
+  const std::vector<std::pair<materials::Material, std::array<double, 4>>> cases{
+      // material, {density range lo, hi, energy range lo, hi}
+      {materials::air(), {0.01, 50.0, -1e4, 5e6}},
+      {materials::explosive("CompB"), {1.0, 2500.0, 1e5, 8e6}},
+      {materials::sand(materials::SandInputs::fromWetDensity(1670.0, 0.22)), {1200.0, 2600.0, 0.0, 1e6}},
+      {materials::water(), {900.0, 1500.0, 0.0, 1e6}},
+  };
+  constexpr int n = 64;
+  for (const auto& [mat, range] : cases) {
+    std::vector<double> alpha(n), rho(n), e(n), h0(n), history(n), p(n, -1.0), bulk(n, -1.0);
+    for (int i = 0; i < n; ++i) {
+      const double t = (i * 37 % n) / static_cast<double>(n - 1), u = (i * 11 % n) / static_cast<double>(n - 1);
+      alpha[i] = i % 5 == 0 ? 0.0 : (i % 7 == 0 ? 1e-12 : 0.5);
+      // an absent material's values are not read: NaN and a stale history give zeros all the same
+      const double nan = std::numeric_limits<double>::quiet_NaN();
+      rho[i] = alpha[i] > 0.0 ? range[0] + t * (range[1] - range[0]) : nan;
+      e[i] = alpha[i] > 0.0 ? range[2] + u * (range[3] - range[2]) : nan;
+      // burn fraction for the products; the largest natural strain reached for the sand
+      h0[i] = alpha[i] > 0.0 ? (mat.eos == materials::EosKind::Jwl ? u : 0.3 * t) : 0.7;
+    }
+    history = h0;
+    materials::evaluateEosAndHistory(mat, n, alpha.data(), rho.data(), e.data(), history.data(), p.data(), bulk.data());
+    for (int i = 0; i < n; ++i) {
+      double h_one = -1.0;
+      const auto one = alpha[i] > 0.0 ? materials::evaluateEosAndHistory(mat, rho[i], e[i], h0[i], h_one) : materials::EosState{0.0, 0.0};
+      if (!(alpha[i] > 0.0)) h_one = 0.0;
+      EXPECT_EQ(std::memcmp(&p[i], &one.pressure, sizeof(double)), 0) << mat.name << " cell " << i << ": " << p[i] << " vs " << one.pressure;
+      EXPECT_EQ(std::memcmp(&bulk[i], &one.bulk, sizeof(double)), 0) << mat.name << " cell " << i;
+      EXPECT_EQ(std::memcmp(&history[i], &h_one, sizeof(double)), 0) << mat.name << " cell " << i;
+    }
+  }
+}
