@@ -954,7 +954,8 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
   // State and equation of state, material by material (the kind switched on once a material), then
   // the mixture's sums in the materials' order, in loops that vectorise. An absent material
   // (fraction not above zero) adds zeros: each sum starts at +0 and never becomes -0, so adding +0
-  // or -0 leaves it as it was, the same sums as skipping it.
+  // or -0 leaves it as it was, the same sums as skipping it. Until the last loop P.P holds the sum
+  // of the pressures and P.hoop that of the zz stress.
   for (int i = 0; i < N; ++i) {
     const std::size_t c = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(base) + i * stride), si = static_cast<std::size_t>(i);
     for (std::size_t q = 0; q < 3; ++q) P.u[q][si] = u_[q][c];
@@ -1013,9 +1014,9 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
 // The materials the pencil carries (Pencil::mat): those present in any of its cells, ghosts
 // included, in the run's order. Leaving out a material that is absent from the whole pencil
 // changes no number: its fraction and mass are zero in every cell, so its fluxes and shares are
-// zeros that leave the kernels' sums as they were, and its other values are multiplied by them. The sweep leaves
-// such a material's cells as they are, where carrying it would clear them again (they are cleared
-// already where the sweep or paint emptied them).
+// zeros that leave the kernels' sums as they were, and its other values are multiplied by them.
+// The sweep leaves such a material's cells as they are, where carrying it would clear them again
+// (they are cleared already where the sweep or paint emptied them).
 void Solver::selectMaterials(Pencil& P, int d, std::size_t base) const {
   const int M = materialCount(), N = P.N;
   const std::ptrdiff_t stride = grid_.stride(d);
