@@ -302,9 +302,8 @@ int runSweep(const SweepOptions& o) {
     const std::string name = entry.path().filename().string();
     const auto k = caseIndex(name);
     if (k && *k >= combos.size() && entry.is_directory() && fs::exists(entry.path() / "summary.json")) fs::remove_all(entry.path());
-    const auto staged = name.find(".staging-");
-    if (name.size() > 1 && name[0] == '.' && staged != std::string::npos)
-      if (const auto ks = caseIndex(name.substr(1, staged - 1)); ks && *ks >= combos.size()) gone.insert(name.substr(1, staged - 1));
+    const std::string staged = scenario::stagedRunName(name);
+    if (const auto ks = caseIndex(staged); ks && *ks >= combos.size()) gone.insert(staged);
   }
   for (const auto& name : gone) scenario::removeLeftStages((out / name).string());
   // the plot last, on its own: a plot that cannot be drawn (no matplotlib) is said, the index stands

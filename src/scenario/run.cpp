@@ -16,6 +16,8 @@
 #include <map>
 #include <mutex>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 #include <sys/types.h>
@@ -1049,40 +1051,49 @@ InterruptScope::~InterruptScope() {
 
 int interruptedBy() { return interrupted_by.load(); }
 
-std::string leftCheckpoint(const std::string& out_dir) {
+namespace {
+// The staging folders of runs into `out_dir` beside it, with the process id each names.
+std::vector<std::pair<fs::path, long>> stagesOf(const std::string& out_dir) {
   const fs::path out = runFolder(out_dir);
   const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
   const std::string prefix = stagingPrefix(out);
+  std::vector<std::pair<fs::path, long>> stages;
+  std::error_code ec;
+  if (fs::is_directory(parent, ec))
+    for (const auto& entry : fs::directory_iterator(parent, ec))
+      if (const long pid = stagePid(entry.path().filename().string(), prefix); pid != 0) stages.emplace_back(entry.path(), pid);
+  return stages;
+}
+}  // namespace
+
+std::string leftCheckpoint(const std::string& out_dir) {
   std::error_code ec;
   fs::path best;
   fs::file_time_type newest{};
-  if (fs::is_directory(parent, ec))
-    for (const auto& entry : fs::directory_iterator(parent, ec)) {
-      const long pid = stagePid(entry.path().filename().string(), prefix);
-      const fs::path file = entry.path() / "checkpoint.bin";
-      // (this process's id on a folder: a run of another process that had the same id, as in containers)
-      if (pid == 0 || (processAlive(pid) && pid != static_cast<long>(::getpid())) || !fs::is_regular_file(file, ec)) continue;
-      const auto when = fs::last_write_time(file, ec);
-      if (!ec && (best.empty() || when > newest)) {
-        best = file;
-        newest = when;
-      }
+  for (const auto& [stage, pid] : stagesOf(out_dir)) {
+    const fs::path file = stage / "checkpoint.bin";
+    // (this process's id on a folder: a run of another process that had the same id, as in containers)
+    if ((processAlive(pid) && pid != static_cast<long>(::getpid())) || !fs::is_regular_file(file, ec)) continue;
+    const auto when = fs::last_write_time(file, ec);
+    if (!ec && (best.empty() || when > newest)) {
+      best = file;
+      newest = when;
     }
+  }
   return best.string();
 }
 
 void removeLeftStages(const std::string& out_dir) {
-  const fs::path out = runFolder(out_dir);
-  const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
-  const std::string prefix = stagingPrefix(out);
   std::error_code ec;
-  std::vector<fs::path> dead;
-  if (fs::is_directory(parent, ec))
-    for (const auto& entry : fs::directory_iterator(parent, ec)) {
-      const long pid = stagePid(entry.path().filename().string(), prefix);
-      if (pid != 0 && !processAlive(pid)) dead.push_back(entry.path());
-    }
-  for (const auto& p : dead) fs::remove_all(p, ec);
+  for (const auto& [stage, pid] : stagesOf(out_dir))
+    if (!processAlive(pid)) fs::remove_all(stage, ec);
+}
+
+std::string stagedRunName(const std::string& name) {
+  const auto at = name.find(".staging-");
+  if (name.size() < 2 || name[0] != '.' || at == std::string::npos) return {};
+  const std::string run = name.substr(1, at - 1);
+  return stagePid(name, stagingPrefix(fs::path(run))) != 0 ? run : std::string();
 }
 
 void checkCase(const Deck& deck) {

@@ -80,5 +80,7 @@ std::string leftCheckpoint(const std::string& out_dir);
 // Removes the staging folders that runs into `out_dir` left and whose processes are gone (an
 // interrupted run's, with its checkpoint): for a study that no longer has that case.
 void removeLeftStages(const std::string& out_dir);
+// The name of the run folder a staging folder's name (.NAME.staging-PID) belongs to, or "".
+std::string stagedRunName(const std::string& name);
 
 }  // namespace ejecta::scenario
