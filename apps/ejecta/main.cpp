@@ -59,6 +59,9 @@ std::string rankPrefix() { return mpiRanks() > 1 ? "rank " + std::to_string(mpiR
 
 namespace {
 int runCommand(int argc, char** argv);
+// The command failed on every MPI rank together (a collective found the failure: an agreed
+// interrupt, a shared write failure), so no rank is left waiting for another.
+bool failed_together = false;
 }
 
 int main(int argc, char** argv) {
@@ -69,7 +72,10 @@ int main(int argc, char** argv) {
   // A rank that failed alone would leave the others waiting in a collective: stop them all. Bad
   // input fails every rank alike and rank 0 alone says so: the others give it time to say it
   // before their abort kills it (under load a rank 1 that parsed first took rank 0 down unheard).
-  if (rc != 0 && mpi.on && mpi.size > 1) {
+  // A failure the ranks agreed on ends every rank as a run that ended well (MPI_Finalize), with
+  // its exit status and no abort: an interrupted run's ranks stop at one step, rank 0 keeps the
+  // checkpoint and says so, and mpirun returns the status.
+  if (rc != 0 && mpi.on && mpi.size > 1 && !failed_together) {
     if (mpi.rank != 0) std::this_thread::sleep_for(std::chrono::seconds(2));
     MPI_Abort(MPI_COMM_WORLD, rc);
   }
@@ -118,6 +124,7 @@ int runCommand(int argc, char** argv) {
     return 2;
   } catch (const ejecta::Interrupted& e) {
     if (ejecta::cli::speaks()) std::cerr << "ejecta: " << e.what() << '\n';
+    failed_together = e.everyRank();
     return 128 + e.signal();
   } catch (const ejecta::RunError& e) {
     std::cerr << "ejecta: run stopped: " << ejecta::cli::rankPrefix() << e.what() << '\n';
@@ -129,6 +136,7 @@ int runCommand(int argc, char** argv) {
     return 2;
   } catch (const ejecta::SharedFailure& e) {
     if (ejecta::cli::speaks()) std::cerr << "ejecta: failed: " << e.what() << '\n';
+    failed_together = true;
     return 1;
   } catch (const std::exception& e) {
     std::cerr << "ejecta: failed: " << ejecta::cli::rankPrefix() << e.what() << '\n';

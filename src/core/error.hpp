@@ -30,14 +30,19 @@ class SharedFailure : public std::runtime_error {
 };
 
 // A run stopped by a signal (SIGINT, SIGTERM, SIGHUP): the front end exits 128 + the signal, as
-// the shell would for a process the signal killed.
+// the shell would for a process the signal killed. `every_rank`: every MPI rank stops with it at
+// the same step (they agreed on it in a collective), so none waits for another and the ranks end
+// as a run that ended well does, without an abort.
 class Interrupted : public std::runtime_error {
  public:
-  Interrupted(int signal, const std::string& message) : std::runtime_error(message), signal_(signal) {}
+  Interrupted(int signal, const std::string& message, bool every_rank = false)
+      : std::runtime_error(message), signal_(signal), every_rank_(every_rank) {}
   int signal() const { return signal_; }
+  bool everyRank() const { return every_rank_; }
 
  private:
   int signal_;
+  bool every_rank_;
 };
 
 }  // namespace ejecta

@@ -378,8 +378,9 @@ std::optional<SnapshotFile> snapshotFile(const std::string& name) {
 std::atomic<int> interrupted_by{0};
 static_assert(std::atomic<int>::is_always_lock_free, "the signal handler stores into it");
 extern "C" void onInterrupt(int sig) { interrupted_by.store(sig); }
-void stopIfInterrupted(double t, int sig = interrupted_by.load()) {
-  if (sig != 0) throw Interrupted(sig, fmt::format("interrupted by signal {} at t = {:.6g} s", sig, t));
+// `every_rank`: the ranks agreed on `sig` (the stepping loop's collective), so every one stops here.
+void stopIfInterrupted(double t, int sig = interrupted_by.load(), bool every_rank = false) {
+  if (sig != 0) throw Interrupted(sig, fmt::format("interrupted by signal {} at t = {:.6g} s", sig, t), every_rank);
 }
 // The handlers' state while any scope lives (`ejecta validate` runs cases on several threads).
 constexpr std::array<int, 3> kSignals{SIGINT, SIGTERM, SIGHUP};
@@ -749,7 +750,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     }
     if (sig != 0) {
       if (opt.checkpoint_every_s > 0.0) writeCheckpoint();   // the staging folder is kept for the restart
-      stopIfInterrupted(rs->time(), sig);
+      stopIfInterrupted(rs->time(), sig, true);
     }
     if (due) {
       writeCheckpoint();

@@ -4,7 +4,7 @@
 # byte for byte (2D axisymmetric and the 3D V-plate); a checkpoint written on 2 ranks restarts on 1
 # and on 3 into the uninterrupted run's history; each rank writes its piece of a field snapshot and
 # the pieces joined are the one process's snapshot value for value; bad input on ranks exits 2,
-# said once.
+# said once; an interrupt the ranks agreed on ends them without an abort.
 # Usage: test_mpi_run.sh EJECTA MPIEXEC
 set -uo pipefail
 ejecta=$(realpath "$1"); mpiexec=$2; pieces_match=$(realpath "$(dirname "$0")/vtr_pieces_match.py")
@@ -71,10 +71,12 @@ sleep 0.5
 for p in $(pgrep -f -- "--out l2"); do
   tr '\0' '\n' < /proc/"$p"/environ 2> /dev/null | grep -qx 'OMPI_COMM_WORLD_RANK=1' && kill -TERM "$p"
 done
-wait $pid
+wait $pid; rc=$?
 ck=$(ls -d .l2.staging-*/checkpoint.bin 2> /dev/null | head -1)
 check "SIGTERM to rank 1 alone: every rank stops at its step, rank 0 keeps the checkpoint ($(grep -m1 interrupted l2.err))" \
   "[[ -s '$ck' ]] && grep -q 'interrupted by signal 15' l2.err"
+check "...the ranks agreed, so they end without an abort: exit 143, said once (rc $rc)" \
+  "[[ $rc -eq 143 ]] && ! grep -q MPI_ABORT l2.err && [[ \$(grep -c 'interrupted by signal' l2.err) -eq 1 ]]"
 "$ejecta" "${long[@]}" --restart "$ck" --out l2 > /dev/null 2>&1
 check "...restarted on 1 process: the uninterrupted run's history, no staging folder left" \
   "cmp -s l1/history.csv l2/history.csv && [[ -z \$(ls -A | grep staging) ]]"
