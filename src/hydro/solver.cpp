@@ -444,7 +444,7 @@ std::string Solver::describeLimitingCell() const {
 // ------------------------------------------------------------------------------------------------
 // Boundaries: fill the ghost layers normal to axis d.
 
-void Solver::fillGhosts(int d) {
+void Solver::fillGhosts(int d, GhostFill what) {
   if (d >= grid_.dims()) return;
   const int n = grid_.cells(d);
   // The plane's two transverse axes, the one with the smaller stride inside (axis 2 is contiguous):
@@ -486,17 +486,25 @@ void Solver::fillGhosts(int d) {
     std::size_t count = 0;
     auto add = [&](std::vector<double>& v, double sign) { arrays[count++] = {v.data(), sign}; };
     const std::size_t cells = dst.size();
+    const bool barring = kind == BoundaryKind::Transmit && !opt_.inflow_barred.empty();
+    // A fill without the stresses leaves their ghosts as they were: no kernel reads them before
+    // the sweep along d fills them again (its gather reads ghosts along d only).
+    const bool stresses = what == GhostFill::Everything;
     for (auto& f : fields_) {
       // A material absent from the boundary's cells and from its ghosts has nothing to copy: its
       // ghosts' fraction is already zero, and no kernel reads a material's state where it is zero.
-      bool present = false;
-      for (std::size_t i = 0; i < cells && !present; ++i) present = f.alpha[src[i]] != 0.0 || f.alpha[dst[i]] != 0.0;
-      if (!present) continue;
+      bool in_cells = false, in_ghosts = false;
+      for (std::size_t i = 0; i < cells && !in_cells; ++i) in_cells = f.alpha[src[i]] != 0.0;
+      for (std::size_t i = 0; i < cells && !in_cells && !in_ghosts; ++i) in_ghosts = f.alpha[dst[i]] != 0.0;
+      if (!in_cells && !in_ghosts) continue;
+      // One that has left the boundary's cells entirely is copied whole, whatever the fill: its
+      // ghosts are cleared as its cells are, and no fill after copies it again.
+      const bool whole = !in_cells;
       add(f.alpha, 1.0);
       add(f.rho, 1.0);
       add(f.e, 1.0);
       add(f.h0, 1.0);
-      if (f.s[0].empty()) continue;
+      if (f.s[0].empty() || (!stresses && !whole)) continue;
       for (int c = 0; c < 6; ++c) {
         // a mirror flips the shear stresses across it
         const bool flip = kind == BoundaryKind::Reflect && c >= 3 && (c == stressIndex(d, (d + 1) % 3) || c == stressIndex(d, (d + 2) % 3));
@@ -513,7 +521,7 @@ void Solver::fillGhosts(int d) {
         for (std::size_t i = first; i < last; ++i) v[dst[i]] = sign * v[src[i]];
       }
     });
-    if (kind == BoundaryKind::Transmit && !opt_.inflow_barred.empty()) barInflow(d, side, dst, src);
+    if (barring) barInflow(d, side, dst, src);
   }
 }
 
@@ -774,11 +782,11 @@ void Solver::interfaceWeights(int d) {
     const int idx[3] = {i, j, k};
     for (int m = 0; m < M; ++m) {
       const auto& al = fields_[static_cast<std::size_t>(m)].alpha;
+      // Only a mixed cell's weight is written: where a material fills the cell its weight is 1,
+      // which the gather takes without reading it, and where it is absent no kernel reads it
+      // (most cells are one material's: their weights were most of this pass's stores).
+      if (al[c] <= 0.0 || al[c] >= 1.0) continue;
       double& w = wlic_[static_cast<std::size_t>(m) * total + c];
-      if (al[c] <= 0.0 || al[c] >= 1.0) {
-        w = 1.0;
-        continue;
-      }
       double nd = 0.0, nsum = 0.0;
       for (int b = 0; b < dims; ++b) {
         int lo[3] = {i, j, k}, hi[3] = {i, j, k};
@@ -819,7 +827,7 @@ void Solver::updateBurn(double dt) {
 void Solver::updateStress(double dt) {
   if (!any_strength_) return;
   if (exchange_) exchangeHalo(false);
-  for (int d = 0; d < grid_.dims(); ++d) fillGhosts(d);
+  for (int d = 0; d < grid_.dims(); ++d) fillGhosts(d, GhostFill::StatesAndVelocity);
   const int dims = grid_.dims();
   const bool axi = grid_.axisymmetric(), sph = grid_.spherical();
   parallel::forEachCell(grid_.cells(0), grid_.cells(1), grid_.cells(2), useThreads(), stress_balance_, [&](int i, int j, int k) {
@@ -986,7 +994,7 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
         continue;
       }
       P.r[ki] = F.rho[c];
-      P.wl[ki] = several ? wlic_[km * total_cells + c] : 1.0;
+      P.wl[ki] = several && al < 1.0 ? wlic_[km * total_cells + c] : 1.0;   // (interfaceWeights: a full cell's is 1, not stored)
       P.e[ki] = F.e[c];
       P.h[ki] = F.h0[c];
       if (strength)

@@ -252,7 +252,12 @@ class Solver {
   const EnergyLedger& energyLedger() const { return energy_; }
 
  private:
-  void fillGhosts(int d);
+  // What a ghost fill copies: everything (a sweep along the axis reads every field of its
+  // ghosts), or all but the deviatoric stresses (the stress update reads the velocity's
+  // neighbours, the interface weights of the sweeps after it the fractions', and the inflow bar
+  // the states it replaces; no kernel reads a stress ghost before its axis's sweep fills it).
+  enum class GhostFill { Everything, StatesAndVelocity };
+  void fillGhosts(int d, GhostFill what = GhostFill::Everything);
   void barInflow(int d, int side, const std::vector<std::size_t>& ghosts, const std::vector<std::size_t>& sources);
   void exchangeHalo(bool weights);   // axis 0's ghost layers from the neighbouring slabs: the state, or the interface weights
   void combineBodyLoad(const std::vector<double>& events);
@@ -292,7 +297,7 @@ class Solver {
   std::array<parallel::LoadBalance, 3> sweep_balance_;   // by the sweep's axis
   mutable parallel::LoadBalance step_balance_;            // stableTimeStep (which writes it: one caller at a time)
   parallel::LoadBalance stress_balance_, weights_balance_, burn_balance_;
-  std::vector<double> wlic_;             // per material and cell: share of the interface facing axis d
+  std::vector<double> wlic_;             // per material and cell: share of the interface facing axis d (mixed cells only: a full cell's is 1)
   std::vector<double> light_distance_;   // m, to the nearest detonation point (+inf without one)
   std::vector<double> light_delay_;      // s, that point's own lighting time
   std::vector<double> burn_length_;      // m, burn ramp length of the cell
