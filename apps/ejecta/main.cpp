@@ -30,15 +30,38 @@ bool launchedByMpi() {
 struct MpiSession {
   bool on = false;
   int size = 1, rank = 0;
+  // A communicator of its own for the ranks' last agreement (failedOnEveryRank): a rank still
+  // inside a collective of the run's communicator never meets it there, and nothing of the run can
+  // match it.
+  MPI_Comm ending = MPI_COMM_NULL;
   MpiSession(int& argc, char**& argv) {
     if (!launchedByMpi()) return;
     MPI_Init(&argc, &argv);
     on = true;
     MPI_Comm_size(MPI_COMM_WORLD, &size);
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    MPI_Comm_dup(MPI_COMM_WORLD, &ending);
   }
   ~MpiSession() {
-    if (on) MPI_Finalize();
+    if (!on) return;
+    MPI_Comm_free(&ending);
+    MPI_Finalize();
+  }
+  // Whether every rank has failed and come here within `seconds`: each failing rank enters a
+  // non-blocking barrier and waits for it that long. Bad input is met by every rank alike, each
+  // after its own parse; a rank that failed alone finds the others missing (they wait in the run's
+  // collectives) and the caller ends them all.
+  bool failedOnEveryRank(double seconds) {
+    MPI_Request done_req = MPI_REQUEST_NULL;
+    MPI_Ibarrier(ending, &done_req);
+    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    for (;;) {
+      int done = 0;
+      MPI_Test(&done_req, &done, MPI_STATUS_IGNORE);
+      if (done) return true;
+      if (std::chrono::steady_clock::now() >= until) return false;   // (the request dies with the abort)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
   }
   MpiSession(const MpiSession&) = delete;
   MpiSession& operator=(const MpiSession&) = delete;
@@ -62,6 +85,13 @@ int runCommand(int argc, char** argv);
 // The command failed on every MPI rank together (a collective found the failure: an agreed
 // interrupt, a shared write failure), so no rank is left waiting for another.
 bool failed_together = false;
+// What a rank other than 0 left unsaid, trusting rank 0 to say the same (bad input).
+std::string unsaid;
+#ifdef EJECTA_HAVE_MPI
+// How long a failed rank waits for the others to fail too before it ends them (failedOnEveryRank):
+// long enough for a slow rank's parse under load, short beside a batch job's time.
+constexpr double kAgreeSeconds = 10.0;
+#endif
 }
 
 int main(int argc, char** argv) {
@@ -69,14 +99,14 @@ int main(int argc, char** argv) {
   ejecta::cli::MpiSession mpi(argc, argv);
   ejecta::cli::session = &mpi;
   const int rc = runCommand(argc, argv);
-  // A rank that failed alone would leave the others waiting in a collective: stop them all. Bad
-  // input fails every rank alike and rank 0 alone says so: the others give it time to say it
-  // before their abort kills it (under load a rank 1 that parsed first took rank 0 down unheard).
-  // A failure the ranks agreed on ends every rank as a run that ended well (MPI_Finalize), with
-  // its exit status and no abort: an interrupted run's ranks stop at one step, rank 0 keeps the
-  // checkpoint and says so, and mpirun returns the status.
-  if (rc != 0 && mpi.on && mpi.size > 1 && !failed_together) {
-    if (mpi.rank != 0) std::this_thread::sleep_for(std::chrono::seconds(2));
+  // A failure every rank met ends every rank as a run that ended well (MPI_Finalize), with its
+  // exit status and no abort, so that rank 0 has said what failed and cleaned up: one the ranks
+  // agreed on in the run (an interrupt at one step, a write that failed), or one each rank met on
+  // its own and that all of them reached within the wait (bad input, found by every rank's parse;
+  // a signal to every rank). A rank that failed alone would leave the others waiting in a
+  // collective: it stops them all.
+  if (rc != 0 && mpi.on && mpi.size > 1 && !failed_together && !mpi.failedOnEveryRank(kAgreeSeconds)) {
+    if (!unsaid.empty()) std::cerr << unsaid << '\n';
     MPI_Abort(MPI_COMM_WORLD, rc);
   }
   return rc;
@@ -120,7 +150,10 @@ int runCommand(int argc, char** argv) {
       if (int rc = action(); rc >= 0) return rc;
     return 2;
   } catch (const ejecta::InputError& e) {
-    if (ejecta::cli::speaks()) std::cerr << "ejecta: error: " << e.what() << '\n';
+    if (ejecta::cli::speaks())
+      std::cerr << "ejecta: error: " << e.what() << '\n';
+    else
+      unsaid = "ejecta: error: " + ejecta::cli::rankPrefix() + e.what();   // said if this rank met it alone
     return 2;
   } catch (const ejecta::Interrupted& e) {
     if (ejecta::cli::speaks()) std::cerr << "ejecta: " << e.what() << '\n';

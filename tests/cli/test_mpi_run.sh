@@ -4,7 +4,7 @@
 # byte for byte (2D axisymmetric and the 3D V-plate); a checkpoint written on 2 ranks restarts on 1
 # and on 3 into the uninterrupted run's history; each rank writes its piece of a field snapshot and
 # the pieces joined are the one process's snapshot value for value; bad input on ranks exits 2,
-# said once; an interrupt the ranks agreed on ends them without an abort.
+# said once, and like an interrupt the ranks agreed on ends them without an abort.
 # Usage: test_mpi_run.sh EJECTA MPIEXEC
 set -uo pipefail
 ejecta=$(realpath "$1"); mpiexec=$2; pieces_match=$(realpath "$(dirname "$0")/vtr_pieces_match.py")
@@ -59,7 +59,12 @@ err=$("$mpiexec" --oversubscribe -np 1 "$ejecta" "${flat[@]}" --out nospace : -n
 check "a piece that cannot be written: exit 1, the cause said once, nothing left ($(grep -m1 'ejecta:' <<< "$err"))" \
   "[[ $rc -eq 1 ]] && [[ \$(grep -c 'could not write the pieces' <<< \"\$err\") -eq 1 ]] && grep -q 'rank 1: ' <<< \"\$err\" && [[ ! -e nospace ]] && [[ -z \$(ls -A | grep staging) ]]"
 err=$(ranks 2 run --set mesh.cell_size_m=-1 --out bad 2>&1 >/dev/null); rc=$?
-check "bad input on ranks: exit 2, said once" "[[ $rc -eq 2 ]] && [[ \$(grep -c 'mesh.cell_size_m' <<< \"\$err\") -eq 1 ]] && [[ ! -e bad ]]"
+check "bad input on ranks: exit 2, said once, every rank ends without an abort" "[[ $rc -eq 2 ]] && [[ \$(grep -c 'mesh.cell_size_m' <<< \"\$err\") -eq 1 ]] && [[ ! -e bad ]] && ! grep -q MPI_ABORT <<< \"\$err\""
+# Bad input on one rank alone (another deck value there): the others wait in the run's collectives,
+# so after the wait for agreement that rank ends them all, saying its error with its rank.
+err=$(timeout 120 "$mpiexec" --oversubscribe -np 1 "$ejecta" "${flat[@]}" --out alone : -np 1 "$ejecta" "${flat[@]}" --set end_time_s=-1 --out alone 2>&1 >/dev/null); rc=$?
+check "bad input on one rank alone: every rank ended, the error said with its rank (rc $rc)" \
+  "[[ $rc -ne 0 && $rc -ne 124 ]] && grep -q 'rank 1: end_time_s' <<< \"\$err\" && [[ ! -e alone ]]"
 # A signal on one rank that is not rank 0 stops every rank at the same step; with --checkpoint-every
 # they write a checkpoint first, and a restart on 1 process gives the uninterrupted run's history.
 long=(run emi-flat-22 --cell-size 40 --set end_time_s=0.02 --no-plot --quiet)
@@ -81,6 +86,6 @@ check "...the ranks agreed, so they end without an abort: exit 143, said once (r
 check "...restarted on 1 process: the uninterrupted run's history, no staging folder left" \
   "cmp -s l1/history.csv l2/history.csv && [[ -z \$(ls -A | grep staging) ]]"
 err=$(ranks 2 soil --json 2>&1 >/dev/null); rc=$?
-check "only run runs on ranks: exit 2" "[[ $rc -eq 2 ]] && grep -q 'only \`ejecta run\`' <<< \"\$err\""
+check "only run runs on ranks: exit 2, no abort" "[[ $rc -eq 2 ]] && grep -q 'only \`ejecta run\`' <<< \"\$err\" && ! grep -q MPI_ABORT <<< \"\$err\""
 echo "$fails failed"
 exit $((fails > 0))
