@@ -1,5 +1,6 @@
 #include "io/soil_report.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -48,6 +49,7 @@ json soilJson(const SandModel& m) {
                  {"quartz_bulk_modulus_Pa", in.quartz.bulk_modulus},
                  {"quartz_dK_dp", in.quartz.dK_dp},
                  {"quartz_shear_modulus_Pa", in.quartz.shear_modulus},
+                 {"shear_modulus_cap_Pa", in.shear_modulus_cap > 0.0 ? std::min(in.shear_modulus_cap, in.quartz.shear_modulus) : in.quartz.shear_modulus},
                  {"water_eos", {{"name", in.water.name}, {"rho0_kg_m3", in.water.rho0}, {"C_m_s", in.water.c0},
                                 {"S1", in.water.s1}, {"S2", in.water.s2}, {"S3", in.water.s3},
                                 {"gamma0", in.water.gamma0}, {"status", in.water.status}}},
@@ -64,6 +66,7 @@ json soilJson(const SandModel& m) {
       {"sjobo_compaction", "Laine & Sandvik 2001 via LSTC decks: verified, except the 1740 kg/m3 row (recalled)"},
       {"sjobo_unloading", "recalled, provisional: clamped so unloading is never softer than loading"},
       {"sjobo_shear_modulus", "76.9 MPa at 1674 kg/m3, verified"},
+      {"shear_modulus_cap", "ours: the quartz grains' own shear modulus unless given (compacted, crushed sand lies below it; not measured: an input with a sensitivity, docs/sand-model.md)"},
       {"quartz_dK_dp", "ours: 6 (alpha-quartz compression studies give 4-6)"},
       {"yield_plateau", "ours: effective-stress law, see docs/sand-model.md"},
       {"thermal_gamma", "ours: quartz 0.66 (alpha K / rho c_v, recalled handbook values) and water 0.28 (AWG), Reuss-weighted at equal temperature; see docs/sand-model.md"}};

@@ -112,6 +112,7 @@ SandModel::SandModel(const SandInputs& in) : in_(in), void_((
   requireRange("plateau-residual", in.plateau.residual, 0.0, 1e10, "Pa", false, false);
   requireRange("yield-plateau", in.plateau.fixed, 0.0, 1e10, "Pa", false, false);
   if (in.thermal_gamma != -1.0) requireInRange("thermal-gamma", in.thermal_gamma, kThermalGammaRange, "- (or -1: from the constituents)");
+  if (in.shear_modulus_cap != 0.0) requireInRange("shear-modulus-cap", in.shear_modulus_cap, kShearModulusCapRange, "Pa (or 0: quartz's)");
 
   SandState s{};
   s.dry_density = in.dry_density;
@@ -183,10 +184,12 @@ double SandModel::unloadingModulus(double p) const { return (1.0 - strain(p)) / 
 
 double SandModel::shearModulus(double p) const {
   // Shear is carried by the grain skeleton alone (pore water has none): G scales with the
-  // skeleton's unloading stiffness, anchored to the measured Sjobo G0, capped at quartz.
+  // skeleton's unloading stiffness, anchored to the measured Sjobo G0, capped at quartz's (or at
+  // the input cap below it).
   const double n = state_.porosity;
   const double c_skel = n * void_.unloadingCompliance(p) + (1.0 - n) * in_.quartz.compliance(p);
-  return std::min(kSjoboShearModulus * skeleton_ref_compliance_ / c_skel, in_.quartz.shear_modulus);
+  const double cap = in_.shear_modulus_cap > 0.0 ? std::min(in_.shear_modulus_cap, in_.quartz.shear_modulus) : in_.quartz.shear_modulus;
+  return std::min(kSjoboShearModulus * skeleton_ref_compliance_ / c_skel, cap);
 }
 
 double SandModel::yieldStrength(double p) const {

@@ -33,6 +33,7 @@ struct PlateauParams {
 inline constexpr Range kMoistureRange{0.0, INFINITY, false, true};   // - gravimetric
 inline constexpr Range kPlateauScaleRange{0.0, 10.0};                // - on the effective-stress plateau
 inline constexpr Range kThermalGammaRange{0.0, 4.0};                 // - the energy term's Gruneisen coefficient
+inline constexpr Range kShearModulusCapRange{1e8, 45e9};             // Pa, the cap on the skeleton's shear modulus (at most quartz's)
 
 struct SandInputs {
   double dry_density = 1280.0;   // kg/m3
@@ -46,6 +47,10 @@ struct SandInputs {
   // Gruneisen coefficient of the sand's energy term (p = C(x) + gamma T(x) rho0 e, LS-DYNA's
   // *EOS_TABULATED_COMPACTION form). Negative: derived from the constituents (SandModel::thermalGamma).
   double thermal_gamma = -1.0;   // -
+  // The cap on the skeleton's shear modulus, Pa; 0: the quartz grains' own (a solid aggregate, the
+  // bound). Compacted and crushed sand is not intact quartz: where it lies between is not measured,
+  // so it is an input with a sensitivity (docs/sand-model.md).
+  double shear_modulus_cap = 0.0;   // Pa
   // Porosity at most this: looser than any sand packing (random loose packing of spheres is about
   // 0.45, the loosest natural sands about 0.55). The model's bounding-case checks (a pure water
   // column, porosity -> 1) raise it to 1.

@@ -71,7 +71,7 @@ Key list(std::string section, std::string name, FieldOf f, KeyType type, std::st
 // inside the domain, the plate inside the domain, a layer holding the charge) are checked after
 // the whole deck is read (checkConsistency), naming the key.
 std::vector<Key> makeKeys() {
-  using materials::kMoistureRange, materials::kPlateauScaleRange, materials::kThermalGammaRange;
+  using materials::kMoistureRange, materials::kPlateauScaleRange, materials::kThermalGammaRange, materials::kShearModulusCapRange;
   const Range any_length{-100.0, 100.0};
   const Range density{0.0, 1e5};
   std::vector<Key> k{
@@ -113,6 +113,8 @@ std::vector<Key> makeKeys() {
       number("soil", "plateau_scale", layer<&SoilSpec::plateau_scale>, "-", kPlateauScaleRange, "multiplier on the effective-stress yield plateau"),
       number("soil", "thermal_gamma", layer<&SoilSpec::thermal_gamma>, "-", kThermalGammaRange,
              "the energy term's Gruneisen coefficient, p = C(x) + gamma T(x) rho0 e; -1: derived from the constituents (docs/solver.md)", -1.0),
+      number("soil", "shear_modulus_cap_pa", layer<&SoilSpec::shear_modulus_cap_pa>, "Pa", kShearModulusCapRange,
+             "the cap on the skeleton's shear modulus, which grows with the compaction seen; 0: the quartz grains' own, 45 GPa (docs/sand-model.md)", 0.0),
 
       flag("backfill", "enabled", in<&Deck::backfill, &BackfillSpec::enabled>,
            "a dug-and-backfilled cover over the charge, from the surface to the charge top (soil options of the first layer)"),
@@ -370,8 +372,8 @@ void checkSand(const materials::SandInputs& in, const std::string& prefix, bool 
     if (f == "dry-density" || f == "wet-density") {
       key = wet_given ? "wet_density_kg_m3" : "dry_density_kg_m3";
       if (wet_given) msg += " (the dry density, wet_density_kg_m3 / (1 + moisture))";
-    } else if (f == "plateau-scale" || f == "thermal-gamma") {
-      key = f == "plateau-scale" ? "plateau_scale" : "thermal_gamma";
+    } else if (f == "plateau-scale" || f == "thermal-gamma" || f == "shear-modulus-cap") {
+      key = f == "plateau-scale" ? "plateau_scale" : (f == "thermal-gamma" ? "thermal_gamma" : "shear_modulus_cap_pa");
     }
     throw InputError(prefix + "." + key, msg);
   }
@@ -526,6 +528,7 @@ materials::SandInputs sandInputsOf(const SoilSpec& s) {
   in.water = materials::waterEosByName(s.water_eos);
   in.plateau.scale = s.plateau_scale;
   in.thermal_gamma = s.thermal_gamma;
+  in.shear_modulus_cap = s.shear_modulus_cap_pa;
   return in;
 }
 

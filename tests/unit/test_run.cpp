@@ -230,6 +230,8 @@ moisture = 0.07
   EXPECT_EQ(field(base, {"soil.0.dry_density_kg_m3=1300"}), "soil.0");   // both densities given
   EXPECT_EQ(field(base, {"soil.0.wet_density_kg_m3=100"}), "soil.0.wet_density_kg_m3");   // porosity over 0.7: the sand model's range, the deck's name
   EXPECT_EQ(field(base, {"soil.0.plateau_scale=11"}), "soil.0.plateau_scale");
+  EXPECT_EQ(field(base, {"soil.0.shear_modulus_cap_pa=5"}), "soil.0.shear_modulus_cap_pa");
+  EXPECT_EQ(field(base, {"soil.0.shear_modulus_cap_pa=-1"}), "soil.0.shear_modulus_cap_pa");
   EXPECT_EQ(field(base, {"soil.0.mosture=0.1"}), "soil.0.mosture");   // unknown key inside a layer
   EXPECT_EQ(field(base, {"cfl=0.3\nend_time_s=0.5"}), "cfl");        // one value per --set: no text after it
   EXPECT_EQ(field(base, {"mesh.cell_size_m=true"}), "mesh.cell_size_m");
@@ -258,7 +260,8 @@ TEST(Deck, OneTableDeclaresEveryKey) {
     return *it;
   };
   for (const auto& [path, range] : {std::pair{"soil.N.moisture", materials::kMoistureRange}, {"soil.N.plateau_scale", materials::kPlateauScaleRange},
-                                    {"soil.N.thermal_gamma", materials::kThermalGammaRange}, {"backfill.moisture", materials::kMoistureRange}}) {
+                                    {"soil.N.thermal_gamma", materials::kThermalGammaRange}, {"soil.N.shear_modulus_cap_pa", materials::kShearModulusCapRange},
+                                    {"backfill.moisture", materials::kMoistureRange}}) {
     const auto k = find(path);
     EXPECT_EQ(k.range.text(), range.text()) << path;
   }

@@ -147,6 +147,23 @@ TEST(SandStrength, ShearModulusAnchoredToSjobo) {
   EXPECT_LT(SandModel(dry(1300.0)).shearModulus(0.0), kSjoboShearModulus);   // looser, softer
 }
 
+// Compaction stiffens the skeleton up to the cap: quartz's own by default, or the input's below it;
+// below the cap nothing changes.
+TEST(SandStrength, ShearModulusCappedAtQuartzOrTheInput) {
+  SandInputs in = SandInputs::fromWetDensity(1370.0, 0.07);
+  const SandModel quartz_capped(in);
+  EXPECT_DOUBLE_EQ(quartz_capped.shearModulus(10e9), in.quartz.shear_modulus);
+  in.shear_modulus_cap = 10e9;
+  const SandModel capped(in);
+  EXPECT_DOUBLE_EQ(capped.shearModulus(10e9), 10e9);
+  EXPECT_DOUBLE_EQ(capped.shearModulus(0.0), quartz_capped.shearModulus(0.0));
+  EXPECT_LT(capped.shearModulus(0.0), 10e9);
+  in.shear_modulus_cap = 1e6;   // below the range (1e8 Pa up to quartz's)
+  EXPECT_THROW(SandModel{in}, InputError);
+  in.shear_modulus_cap = 50e9;
+  EXPECT_THROW(SandModel{in}, InputError);
+}
+
 TEST(SandInputs, RejectsBadValuesNamingTheField) {
   auto field_of = [](const SandInputs& in) {
     try {
