@@ -2,6 +2,7 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -30,9 +31,8 @@ bool launchedByMpi() {
 struct MpiSession {
   bool on = false;
   int size = 1, rank = 0;
-  // A communicator of its own for the ranks' last agreement (failedOnEveryRank): a rank still
-  // inside a collective of the run's communicator never meets it there, and nothing of the run can
-  // match it.
+  // A communicator of its own for the ranks' last agreement (agreeOnExit): a rank still inside a
+  // collective of the run's communicator never meets it there, and nothing of the run can match it.
   MPI_Comm ending = MPI_COMM_NULL;
   MpiSession(int& argc, char**& argv) {
     if (!launchedByMpi()) return;
@@ -47,19 +47,21 @@ struct MpiSession {
     MPI_Comm_free(&ending);
     MPI_Finalize();
   }
-  // Whether every rank has failed and come here within `seconds`: each failing rank enters a
-  // non-blocking barrier and waits for it that long. Bad input is met by every rank alike, each
-  // after its own parse; a rank that failed alone finds the others missing (they wait in the run's
-  // collectives) and the caller ends them all.
-  bool failedOnEveryRank(double seconds) {
-    MPI_Request done_req = MPI_REQUEST_NULL;
-    MPI_Ibarrier(ending, &done_req);
+  // Every rank's last collective: the largest exit status of all, once every rank has come here,
+  // or nothing if `seconds` (> 0) pass first. A rank that ended well waits without a limit (rank 0
+  // may still be writing the outputs); a failed one waits `seconds`: bad input is met by every rank
+  // alike, each after its own parse, while a rank that failed alone finds the others missing (they
+  // wait in the run's collectives) and the caller ends them all.
+  std::optional<int> agreeOnExit(int rc, double seconds) {
+    int all = rc;
+    MPI_Request req = MPI_REQUEST_NULL;
+    MPI_Iallreduce(&rc, &all, 1, MPI_INT, MPI_MAX, ending, &req);
     const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
     for (;;) {
       int done = 0;
-      MPI_Test(&done_req, &done, MPI_STATUS_IGNORE);
-      if (done) return true;
-      if (std::chrono::steady_clock::now() >= until) return false;   // (the request dies with the abort)
+      MPI_Test(&req, &done, MPI_STATUS_IGNORE);
+      if (done) return all;
+      if (seconds > 0.0 && std::chrono::steady_clock::now() >= until) return std::nullopt;   // (the request dies with the abort)
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
   }
@@ -87,9 +89,17 @@ int runCommand(int argc, char** argv);
 bool failed_together = false;
 // What a rank other than 0 left unsaid, trusting rank 0 to say the same (bad input).
 std::string unsaid;
+// Bad input, which every rank meets alike: rank 0 says it; another rank keeps it, with its rank, to
+// say if it turns out to have met it alone.
+void sayOnce(const std::string& what) {
+  if (ejecta::cli::speaks())
+    std::cerr << "ejecta: error: " << what << '\n';
+  else
+    unsaid = "ejecta: error: " + ejecta::cli::rankPrefix() + what;
+}
 #ifdef EJECTA_HAVE_MPI
-// How long a failed rank waits for the others to fail too before it ends them (failedOnEveryRank):
-// long enough for a slow rank's parse under load, short beside a batch job's time.
+// How long a failed rank waits for the others to come to the end too before it ends them
+// (agreeOnExit): long enough for a slow rank's parse under load, short beside a batch job's time.
 constexpr double kAgreeSeconds = 10.0;
 #endif
 }
@@ -99,17 +109,19 @@ int main(int argc, char** argv) {
   ejecta::cli::MpiSession mpi(argc, argv);
   ejecta::cli::session = &mpi;
   const int rc = runCommand(argc, argv);
-  // A failure every rank met ends every rank as a run that ended well (MPI_Finalize), with its
-  // exit status and no abort, so that rank 0 has said what failed and cleaned up: one the ranks
-  // agreed on in the run (an interrupt at one step, a write that failed), or one each rank met on
-  // its own and that all of them reached within the wait (bad input, found by every rank's parse;
-  // a signal to every rank). A rank that failed alone would leave the others waiting in a
-  // collective: it stops them all.
-  if (rc != 0 && mpi.on && mpi.size > 1 && !failed_together && !mpi.failedOnEveryRank(kAgreeSeconds)) {
+  if (!mpi.on || mpi.size == 1) return rc;
+  // Every rank ends as a run that ended well (MPI_Finalize, no abort, so that rank 0 has said what
+  // failed and cleaned up), with the largest status of all, once every rank has come to the end:
+  // after a failure the ranks agreed on in the run (an interrupt at one step, a write that failed),
+  // or one that each met on its own (bad input, found by every rank's parse; a signal to every
+  // rank, also while rank 0 writes the outputs and the others wait here). A rank that failed alone
+  // would leave the others waiting in a collective: after the wait it stops them all.
+  const auto agreed = mpi.agreeOnExit(rc, rc == 0 || failed_together ? 0.0 : kAgreeSeconds);
+  if (!agreed) {
     if (!unsaid.empty()) std::cerr << unsaid << '\n';
     MPI_Abort(MPI_COMM_WORLD, rc);
   }
-  return rc;
+  return *agreed;
 #else
   return runCommand(argc, argv);
 #endif
@@ -129,7 +141,7 @@ int runCommand(int argc, char** argv) {
     const bool empty_inline = arg.size() > 2 && arg.rfind("--", 0) == 0 && arg.back() == '=';
     if (arg.empty() || empty_inline) {
       const std::string opt = empty_inline ? arg.substr(0, arg.size() - 1) : (i > 1 && argv[i - 1][0] == '-' ? argv[i - 1] : "an argument");
-      std::cerr << "ejecta: error: " << opt << ": an empty value is not allowed (see ejecta --help)\n";
+      sayOnce(opt + ": an empty value is not allowed (see ejecta --help)");
       return 2;
     }
   }
@@ -138,7 +150,7 @@ int runCommand(int argc, char** argv) {
   } catch (const CLI::Success& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::cerr << "ejecta: error: " << e.what() << " (see ejecta --help)\n";
+    sayOnce(std::string(e.what()) + " (see ejecta --help)");
     return 2;
   }
   if (ejecta::cli::mpiRanks() > 1 && !app.got_subcommand("run")) {
@@ -150,10 +162,7 @@ int runCommand(int argc, char** argv) {
       if (int rc = action(); rc >= 0) return rc;
     return 2;
   } catch (const ejecta::InputError& e) {
-    if (ejecta::cli::speaks())
-      std::cerr << "ejecta: error: " << e.what() << '\n';
-    else
-      unsaid = "ejecta: error: " + ejecta::cli::rankPrefix() + e.what();   // said if this rank met it alone
+    sayOnce(e.what());
     return 2;
   } catch (const ejecta::Interrupted& e) {
     if (ejecta::cli::speaks()) std::cerr << "ejecta: " << e.what() << '\n';
