@@ -64,8 +64,8 @@ materials::SandInputs buildInputs(const SoilOptions& o) {
     requireInRange("thermal-gamma", in.thermal_gamma, materials::kThermalGammaRange, "-");
   }
   if (!o.shear_modulus_cap.empty()) {
-    in.shear_modulus_cap = parseNumber("shear-modulus-cap", o.shear_modulus_cap);
-    requireInRange("shear-modulus-cap", in.shear_modulus_cap, materials::kShearModulusCapRange, "Pa");
+    in.shear_modulus_cap = parseNumber("shear-modulus-cap", o.shear_modulus_cap);   // 0: quartz's, as in the deck
+    if (in.shear_modulus_cap != 0.0) requireInRange("shear-modulus-cap", in.shear_modulus_cap, materials::kShearModulusCapRange, "Pa (or 0: quartz's)");
   }
   if (!o.plateau_residual.empty()) in.plateau.residual = parseNumber("plateau-residual", o.plateau_residual);
   return in;
@@ -149,7 +149,7 @@ Action addSoilCommand(CLI::App& app) {
   sub->add_option("--yield-plateau", o->yield_plateau, "Fixed yield plateau, Pa (implies --plateau-law fixed)");
   sub->add_option("--plateau-scale", o->plateau_scale, "Multiplier on the effective-stress plateau, - (default 1)");
   sub->add_option("--thermal-gamma", o->thermal_gamma, "Gruneisen coefficient of the energy term p = C(x) + gamma T(x) rho0 e, [0, 4] (default: from the constituents)");
-  sub->add_option("--shear-modulus-cap", o->shear_modulus_cap, "Cap on the skeleton's shear modulus, Pa, [1e8, 4.5e10] (default: quartz's, 4.5e10)");
+  sub->add_option("--shear-modulus-cap", o->shear_modulus_cap, "Cap on the skeleton's shear modulus, Pa, [1e8, 4.5e10], or 0: quartz's (the default, 4.5e10)");
   sub->add_option("--plateau-residual", o->plateau_residual, "Floor of the plateau, Pa (default 0)");
   sub->add_option("--lsdyna", o->lsdyna, "Write an LS-DYNA keyword file (*MAT_PSEUDO_TENSOR, *EOS_TABULATED_COMPACTION)");
   sub->add_option("--units", o->units, "Unit system of the keyword file: kg-m-s (default), g-mm-ms, t-mm-s");

@@ -188,8 +188,7 @@ double SandModel::shearModulus(double p) const {
   // the input cap below it).
   const double n = state_.porosity;
   const double c_skel = n * void_.unloadingCompliance(p) + (1.0 - n) * in_.quartz.compliance(p);
-  const double cap = in_.shear_modulus_cap > 0.0 ? std::min(in_.shear_modulus_cap, in_.quartz.shear_modulus) : in_.quartz.shear_modulus;
-  return std::min(kSjoboShearModulus * skeleton_ref_compliance_ / c_skel, cap);
+  return std::min(kSjoboShearModulus * skeleton_ref_compliance_ / c_skel, shearModulusCap());
 }
 
 double SandModel::yieldStrength(double p) const {

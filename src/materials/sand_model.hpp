@@ -3,6 +3,7 @@
 // moisture give the whole constitutive description through three springs in series (air-void
 // skeleton, quartz, water), the dry Sjobo sand as baseline, and a saturation-dependent
 // strength plateau. SI units throughout: Pa, kg/m3, m/s.
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -140,6 +141,8 @@ class SandModel {
   // grains in a porous skeleton expand into its voids, so the skeleton carries their thermal
   // pressure only as the voids close; e^x turns rho0 into the current density.
   double thermalGamma() const { return thermal_gamma_; }
+  // Pa: the input cap on the skeleton's shear modulus, or quartz's own
+  double shearModulusCap() const { return in_.shear_modulus_cap > 0.0 ? std::min(in_.shear_modulus_cap, in_.quartz.shear_modulus) : in_.quartz.shear_modulus; }
   double thermalFactor(double x) const;
   double maxPressure() const { return p_max_; }   // top of the tabulated range
   SandKeyNumbers keyNumbers() const;

@@ -82,8 +82,8 @@ constexpr double k3dCostScale = 40.0;
 // The quick level's V-plate runs end at 5 ms (the full level's at the decks' 10 ms).
 constexpr double kVPlateQuickEnd_s = 0.005;
 
-// Sensitivity inputs: what we do not know exactly (shared/data/validation_cases.md), each changed
-// alone from the EMI 7% deck. `per` turns the change into a rate for the table.
+// Sensitivity inputs: what we do not know exactly (shared/data/validation_cases.md), and the time
+// step, each changed alone from the EMI 7% deck. `per` turns the change into a rate for the table.
 struct Perturbation {
   std::string id, input, base, changed, set, per_unit;
   double per;   // the change in units of per_unit
@@ -603,7 +603,7 @@ json validationReport(const ValidationPlan& plan, const std::map<std::string, js
       sec["caption"] = "Impulse by material, N s.";
       sec["plot"] = plot;
     } else if (study == "sensitivity") {
-      sec["title"] = "Sensitivity to the inputs we do not know exactly (EMI flat plate, 7%)";
+      sec["title"] = "Sensitivity to the inputs we do not know exactly, and to the time step (EMI flat plate, 7%)";
       const double i0 = impulse(sensitivityBaseline(sz));
       auto t = table({"input", "baseline", "changed to", "impulse (N s)", "change", "rate"});
       json plot{{"labels", json::array()}, {"change_pct", json::array()}, {"baseline_Ns", i0}};
@@ -630,7 +630,7 @@ json validationReport(const ValidationPlan& plan, const std::map<std::string, js
                        change("sens-plate-fixed"), change("sens-plate-static-mesh")),
            fmt::format("The time step: the shear modulus cap moves the impulse {:+.1f}% (10 GPa) and {:+.1f}% (1 GPa) and lets the step grow (the "
                        "compacted sand's longitudinal speed sets it late in the run); a smaller Courant number at the same cells moves it {:+.1f}%. "
-                       "Part of the cap's change is the step's, not the sand's (docs/validate.md).",
+                       "Part of the cap's change is the step's, not the sand's (docs/sand-model.md, docs/validate.md).",
                        change("sens-shear-cap-10gpa"), change("sens-shear-cap-1gpa"), change("sens-cfl-0.3"))});
       sec["figure"] = "sensitivity.png";
       sec["caption"] = "Change of the impulse at 10 ms for each changed input.";

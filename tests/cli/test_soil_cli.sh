@@ -39,6 +39,7 @@ bad "grains lighter than the baseline's compacted sand" "grain-density" --grain-
 bad "vanishing dry density" "dry-density" --dry-density 1e-300 --moisture 0
 bad "porosity over 0.7" "dry-density" --dry-density 0.1 --moisture 0
 bad "energy term gamma out of range" "thermal-gamma" --thermal-gamma 9
+bad "shear modulus cap out of range" "shear-modulus-cap" --shear-modulus-cap 5e10
 
 # Output paths that are not regular files are refused, never replaced (device, FIFO, symbolic link).
 mknod -m 666 dev c 1 3 2>/dev/null && {
