@@ -63,10 +63,8 @@ materials::SandInputs buildInputs(const SoilOptions& o) {
     in.thermal_gamma = parseNumber("thermal-gamma", o.thermal_gamma);
     requireInRange("thermal-gamma", in.thermal_gamma, materials::kThermalGammaRange, "-");
   }
-  if (!o.shear_modulus_cap.empty()) {
-    in.shear_modulus_cap = parseNumber("shear-modulus-cap", o.shear_modulus_cap);   // 0: quartz's, as in the deck
-    if (in.shear_modulus_cap != 0.0) requireInRange("shear-modulus-cap", in.shear_modulus_cap, materials::kShearModulusCapRange, "Pa (or 0: quartz's)");
-  }
+  // 0: quartz's, as in the deck; the sand model checks the range, naming this option
+  if (!o.shear_modulus_cap.empty()) in.shear_modulus_cap = parseNumber("shear-modulus-cap", o.shear_modulus_cap);
   if (!o.plateau_residual.empty()) in.plateau.residual = parseNumber("plateau-residual", o.plateau_residual);
   return in;
 }

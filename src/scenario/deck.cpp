@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <set>
 #include <variant>
 
@@ -372,8 +373,10 @@ void checkSand(const materials::SandInputs& in, const std::string& prefix, bool 
     if (f == "dry-density" || f == "wet-density") {
       key = wet_given ? "wet_density_kg_m3" : "dry_density_kg_m3";
       if (wet_given) msg += " (the dry density, wet_density_kg_m3 / (1 + moisture))";
-    } else if (f == "plateau-scale" || f == "thermal-gamma" || f == "shear-modulus-cap") {
-      key = f == "plateau-scale" ? "plateau_scale" : (f == "thermal-gamma" ? "thermal_gamma" : "shear_modulus_cap_pa");
+    } else {
+      static const std::map<std::string, std::string> deck_key{
+          {"plateau-scale", "plateau_scale"}, {"thermal-gamma", "thermal_gamma"}, {"shear-modulus-cap", "shear_modulus_cap_pa"}};
+      if (const auto it = deck_key.find(f); it != deck_key.end()) key = it->second;
     }
     throw InputError(prefix + "." + key, msg);
   }
