@@ -119,6 +119,9 @@ int main(int argc, char** argv) {
   const auto agreed = mpi.agreeOnExit(rc, rc == 0 || failed_together ? 0.0 : kAgreeSeconds);
   if (!agreed) {
     if (!unsaid.empty()) std::cerr << unsaid << '\n';
+    // said by ejecta itself: Open MPI's own notice of the abort is sometimes lost on the way out
+    std::cerr << "ejecta: " << ejecta::cli::rankPrefix() << "the other ranks did not come to the end within " << kAgreeSeconds
+              << " s: ending every rank (MPI_Abort)\n";
     MPI_Abort(MPI_COMM_WORLD, rc);
   }
   return *agreed;
