@@ -44,7 +44,7 @@ void Pencil::resize(int cells, int materials) {
   }
   const auto sN = static_cast<std::size_t>(N), sF = sN + 1, sMN = sN * static_cast<std::size_t>(M),
              sMF = sF * static_cast<std::size_t>(M);
-  for (auto* v : {&vol, &rho, &P, &K, &Z, &hoop, &pmin, &vlag, &mass, &ke, &su, &sp, &ie_cell, &die, &w_grav, &present, &sum_snn, &sum_s11}) v->assign(sN, 0.0);
+  for (auto* v : {&vol, &rho, &P, &K, &Kp, &Z, &hoop, &dil, &pmin, &vlag, &mass, &ke, &su, &sp, &ie_cell, &die, &w_grav, &present, &sum_snn, &sum_s11}) v->assign(sN, 0.0);
   for (auto* v : {&area, &ustar, &pstar, &dvol}) v->assign(sF, 0.0);
   for (auto& v : u) v.assign(sN, 0.0);
   for (auto& v : mom) v.assign(sN, 0.0);
@@ -212,31 +212,57 @@ static void bookLoadByMaterial(const Pencil& P, const SweepSetup& S, int fluid, 
   }
 }
 
+// The predictor's dilatation rate (Pencil::dil): the velocity slope, plus geo u / r in an r-sweep
+// (geo 1 axisymmetric, 2 spherical; a cell centre is never on the axis). A ghost cell beyond the
+// domain's boundary takes the geometric part of the interior cell it mirrors: a reflecting wall's
+// ghost holds the interior's velocity reversed, and its own -u / r would make the two states of
+// the wall's face differ, moving the wall (on the axis, the mirror's u / r is the ghost's own;
+// beyond an outflow side, whose ghosts copy the last cell, nearly so).
+static void dilatationRates(const Pencil& P, const SweepSetup& S, double* dil) {
+  const int N = P.N, g = kGhost, n = P.n;
+  const double* su = P.su.data();
+  if (!P.radial) {
+    for (int i = 1; i < N - 1; ++i) dil[i] = su[i];
+    return;
+  }
+  const double geo = P.spherical ? 2.0 : 1.0;
+  const double* un = P.u[static_cast<std::size_t>(S.d)].data();
+  const auto rate = [&](int m) { return geo * un[m] / S.xc[m]; };
+  for (int i = 1; i < N - 1; ++i) {
+    int m = i;
+    if (i < g && S.lo_is_boundary) m = std::min(2 * g - 1 - i, g + n - 1);
+    if (i >= g + n && S.hi_is_boundary) m = std::max(2 * (g + n) - 1 - i, g);
+    dil[i] = su[i] + rate(m);
+  }
+}
+
 void computeSlopes(Pencil& P, const SweepSetup& S) {
   const int N = P.N;
   if (!S.second_order) {
-    for (int i = 1; i < N - 1; ++i) P.su[static_cast<std::size_t>(i)] = P.sp[static_cast<std::size_t>(i)] = 0.0;
+    for (int i = 1; i < N - 1; ++i) P.su[static_cast<std::size_t>(i)] = P.sp[static_cast<std::size_t>(i)] = P.dil[static_cast<std::size_t>(i)] = 0.0;
     return;
   }
   limitedSlopes(N, S.inv_dx, P.u[static_cast<std::size_t>(S.d)].data(), P.P.data(), P.su.data(), P.sp.data());
-  if (!anySolid(P)) return;   // first order beside the body
-  for (int i = 1; i < N - 1; ++i) {
+  dilatationRates(P, S, P.dil.data());
+  if (!anySolid(P)) return;
+  for (int i = 1; i < N - 1; ++i) {   // first order beside the body: no slope, no half step
     const std::size_t si = static_cast<std::size_t>(i);
-    if (P.solid[si - 1] | P.solid[si] | P.solid[si + 1]) P.su[si] = P.sp[si] = 0.0;
+    if (P.solid[si - 1] | P.solid[si] | P.solid[si + 1]) P.su[si] = P.sp[si] = P.dil[si] = 0.0;
   }
 }
 
 namespace {
 // The MUSCL-Hancock states on the two sides of the face between cells L and R: velocity and
-// normal stress extrapolated by half a cell and advanced by half a step.
+// normal stress extrapolated by half a cell and advanced by half a step (the stress with the
+// predictor's stiffness Kp and the cell's dilatation rate dil).
 struct FaceStates {
   double uL, pL, uR, pR;
 };
 inline FaceStates hancockStates(std::ptrdiff_t L, std::ptrdiff_t R, double dt, const double* width, const double* un, const double* su,
-                                const double* sp, const double* rho, const double* p, const double* K) {
+                                const double* sp, const double* rho, const double* p, const double* Kp, const double* dil) {
   const double hl = 0.5 * width[L], hr = 0.5 * width[R];
-  return {un[L] + hl * su[L] - 0.5 * dt * sp[L] / rho[L], p[L] + hl * sp[L] - 0.5 * dt * K[L] * su[L],
-          un[R] - hr * su[R] - 0.5 * dt * sp[R] / rho[R], p[R] - hr * sp[R] - 0.5 * dt * K[R] * su[R]};
+  return {un[L] + hl * su[L] - 0.5 * dt * sp[L] / rho[L], p[L] + hl * sp[L] - 0.5 * dt * Kp[L] * dil[L],
+          un[R] - hr * su[R] - 0.5 * dt * sp[R] / rho[R], p[R] - hr * sp[R] - 0.5 * dt * Kp[R] * dil[R]};
 }
 }  // namespace
 
@@ -244,9 +270,10 @@ inline FaceStates hancockStates(std::ptrdiff_t L, std::ptrdiff_t R, double dt, c
 // arrays, so that it vectorises.
 [[gnu::noinline]] static void acousticFaces(std::ptrdiff_t f0, std::ptrdiff_t f1, double dt, const double* __restrict width, const double* __restrict un,
                                             const double* __restrict su, const double* __restrict sp, const double* __restrict rho, const double* __restrict p,
-                                            const double* __restrict K, const double* __restrict Z, double* __restrict ustar, double* __restrict pstar) {
+                                            const double* __restrict Kp, const double* __restrict dil, const double* __restrict Z, double* __restrict ustar,
+                                            double* __restrict pstar) {
   for (std::ptrdiff_t f = f0; f <= f1; ++f) {
-    const auto [uL, pL, uR, pR] = hancockStates(f - 1, f, dt, width, un, su, sp, rho, p, K);
+    const auto [uL, pL, uR, pR] = hancockStates(f - 1, f, dt, width, un, su, sp, rho, p, Kp, dil);
     const double zl = Z[f - 1], zr = Z[f];
     const double zs = zl + zr;
     ustar[f] = (zl * uL + zr * uR + pL - pR) / zs;
@@ -262,8 +289,16 @@ void solveFaces(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
   // the body are overwritten below.
   {
     const double* un = P.u[static_cast<std::size_t>(S.d)].data();
-    acousticFaces(f0, f1, dt, S.width, un, P.su.data(), P.sp.data(), P.rho.data(), P.P.data(), P.K.data(), P.Z.data(), P.ustar.data(),
-                  P.pstar.data());
+    acousticFaces(f0, f1, dt, S.width, un, P.su.data(), P.sp.data(), P.rho.data(), P.P.data(), P.Kp.data(), P.dil.data(), P.Z.data(),
+                  P.ustar.data(), P.pstar.data());
+    if (P.radial) {
+      // the hoop stress at the same half step as the face stresses it balances (lagrangeUpdate):
+      // taken at the step's start it pushed an expanding ring outwards by a force that grew with the step
+      for (int i = 1; i < P.N - 1; ++i) {
+        const std::size_t si = static_cast<std::size_t>(i);
+        P.hoop[si] -= 0.5 * dt * P.Kp[si] * P.dil[si];
+      }
+    }
     const double* ustar = P.ustar.data();
     const double* __restrict xf = S.xf;
     const double* __restrict area = P.area.data();
@@ -288,7 +323,8 @@ void solveFaces(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     const std::size_t L = static_cast<std::size_t>(f - 1), R = static_cast<std::size_t>(f), sf = static_cast<std::size_t>(f);
     if (!(P.solid[L] | P.solid[R])) continue;
     // a wall moving with the body: the flow's half of the Riemann problem, no swept volume
-    const auto [uL, pL, uR, pR] = hancockStates(f - 1, f, dt, S.width, un.data(), P.su.data(), P.sp.data(), P.rho.data(), P.P.data(), P.K.data());
+    const auto [uL, pL, uR, pR] = hancockStates(f - 1, f, dt, S.width, un.data(), P.su.data(), P.sp.data(), P.rho.data(), P.P.data(), P.Kp.data(),
+                                                P.dil.data());
     const double zl = P.Z[L], zr = P.Z[R];
     double ps = 0.0;
     if (!P.solid[L]) ps = std::max(pL + zl * (uL - wall_u), P.pmin[L]);

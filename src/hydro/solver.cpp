@@ -887,16 +887,20 @@ void Solver::updateStress(double dt) {
 // One sweep along axis d: gather each pencil, run the kernels (pencil.hpp), scatter it back.
 
 namespace {
-// One material's share of the cells' mixture (gatherPencil): density, pressure, stiffness and
-// tension limit by volume fraction, added in the materials' order (an absent one adds zeros).
+// One material's share of the cells' mixture (gatherPencil): density, pressure, stiffness (the
+// Voigt sum, and the Reuss sum of compliances over fractions above kAlphaMin) and tension limit by
+// volume fraction, added in the materials' order (an absent one adds zeros).
 [[gnu::noinline]] void addToMixture(std::ptrdiff_t n, double tension, const double* __restrict a, const double* __restrict r,
                                     const double* __restrict pk, const double* __restrict kk, double* __restrict rho, double* __restrict p,
-                                    double* __restrict kv, double* __restrict pmin) {
+                                    double* __restrict kv, double* __restrict compliance, double* __restrict present, double* __restrict pmin) {
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     const double al = a[i] > 0.0 ? a[i] : 0.0;
     rho[i] += al * r[i];
     p[i] += al * pk[i];
     kv[i] += al * kk[i];
+    const bool counts = al > kAlphaMin;
+    compliance[i] += counts && kk[i] > 0.0 ? al / kk[i] : 0.0;
+    present[i] += counts ? 1.0 : 0.0;
     pmin[i] += al * tension;
   }
 }
@@ -968,7 +972,7 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
     const std::size_t c = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(base) + i * stride), si = static_cast<std::size_t>(i);
     for (std::size_t q = 0; q < 3; ++q) P.u[q][si] = u_[q][c];
     P.solid[si] = body_.empty() ? 0 : body_[c];
-    P.rho[si] = P.P[si] = P.K[si] = P.pmin[si] = P.hoop[si] = P.shear[0][si] = P.shear[1][si] = P.sum_snn[si] = P.sum_s11[si] = 0.0;
+    P.rho[si] = P.P[si] = P.K[si] = P.Kp[si] = P.present[si] = P.pmin[si] = P.hoop[si] = P.shear[0][si] = P.shear[1][si] = P.sum_snn[si] = P.sum_s11[si] = 0.0;
   }
   for (int k = 0; k < M; ++k) {
     const auto km = static_cast<std::size_t>(P.mat[k]);
@@ -1004,7 +1008,7 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
     materials::evaluateEosAndHistory(mat, N, P.a.data() + k0, P.r.data() + k0, P.e.data() + k0, P.h.data() + k0, P.pk.data() + k0,
                                      P.kk.data() + k0);
     addToMixture(N, materials::tensionLimit(mat), P.a.data() + k0, P.r.data() + k0, P.pk.data() + k0, P.kk.data() + k0, P.rho.data(),
-                 P.P.data(), P.K.data(), P.pmin.data());
+                 P.P.data(), P.K.data(), P.Kp.data(), P.present.data(), P.pmin.data());
     if (strength)
       addStressToMixture(N, P.a.data() + k0, P.s[static_cast<std::size_t>(d)].data() + k0, P.s[2].data() + k0, P.s[1].data() + k0,
                          P.s[static_cast<std::size_t>(s_dt1)].data() + k0, P.s[static_cast<std::size_t>(s_dt2)].data() + k0,
@@ -1016,6 +1020,9 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
     P.P[si] = p - P.sum_snn[si];
     P.hoop[si] = p - (spherical ? 0.5 * (stt + P.sum_s11[si]) : stt);
     P.Z[si] = std::sqrt(std::max(P.rho[si] * P.K[si], 1e-30));
+    // Until here P.Kp holds the sum of compliances. A cell of one material (fragments aside) keeps
+    // K, the same to the bit whichever materials its pencil carries.
+    P.Kp[si] = P.present[si] > 1.0 && P.Kp[si] > 0.0 ? 1.0 / P.Kp[si] : P.K[si];
   }
 }
 

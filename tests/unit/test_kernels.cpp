@@ -51,7 +51,7 @@ struct Line {
     P.u[0][si] = u;
     P.P[si] = p;
     P.hoop[si] = p;
-    P.K[si] = K;
+    P.K[si] = P.Kp[si] = K;
     P.Z[si] = std::sqrt(rho * K);
     for (int k = 0; k < P.M; ++k) {
       const auto ki = P.at(k, i);
@@ -90,6 +90,55 @@ TEST(Kernels, AcousticRiemannSolutionOfTwoCollidingStates) {
   const auto mid = static_cast<std::size_t>(L.P.N / 2);
   EXPECT_NEAR(L.P.ustar[mid], 0.0, 1e-12);
   EXPECT_NEAR(L.P.pstar[mid], 1e5 + Z * u, 1e-6);
+}
+
+// A linear velocity u = a x at uniform pressure: both face states are (a x_f, p - dt/2 Kp a), so the
+// Riemann solution is that state, exactly: the predictor advances the stress with Kp (the mixed
+// cell's Reuss modulus), not with the Voigt K that sets the impedance.
+TEST(Kernels, PredictorAdvancesTheStressWithItsOwnStiffness) {
+  const double dt = 1e-4, a = 50.0, p = 1e6, rho = 20.0, K = 3e9, Kp = 2e6;
+  Line L(8, 1, dt);
+  for (int i = 0; i < L.P.N; ++i) {
+    L.set(i, rho, a * L.xc[static_cast<std::size_t>(i)], p, K);
+    L.P.Kp[static_cast<std::size_t>(i)] = Kp;
+  }
+  hydro::PencilLedger led;
+  hydro::computeSlopes(L.P, L.S);
+  hydro::solveFaces(L.P, L.S, led);
+  for (int f = mesh::kGhost; f <= mesh::kGhost + 8; ++f) {
+    const auto sf = static_cast<std::size_t>(f);
+    EXPECT_NEAR(L.P.pstar[sf], p - 0.5 * dt * Kp * a, 1e-9 * p) << "face " << f;
+    EXPECT_NEAR(L.P.ustar[sf], a * L.xf[sf], 1e-12) << "face " << f;
+  }
+}
+
+// Homologous expansion u = a r in an axisymmetric (spherical) r-sweep: div u = 2a (3a). The face
+// stresses and the hoop stress are advanced by half a step of -Kp div u, so that a uniform pressure
+// meets the hoop term at the same time level (the cell's net force is zero to round-off).
+TEST(Kernels, RadialPredictorTakesTheWholeDivergenceAndTimeCentresTheHoopStress) {
+  for (const bool spherical : {false, true}) {
+    const double dt = 1e-5, a = 100.0, p = 1e7, rho = 50.0, K = 1.4e7;
+    Line L(8, 1, dt);
+    for (std::size_t i = 0; i < L.xc.size(); ++i) {   // radii 1 .. : no cell on the axis
+      L.xc[i] += mesh::kGhost + 1.0;
+      L.xf[i] += mesh::kGhost + 1.0;
+    }
+    L.xf.back() += mesh::kGhost + 1.0;
+    L.P.radial = true;
+    L.P.spherical = spherical;
+    L.P.ring_width = 1.0;
+    for (int i = 0; i < L.P.N; ++i) L.set(i, rho, a * L.xc[static_cast<std::size_t>(i)], p, K);
+    hydro::PencilLedger led;
+    hydro::computeSlopes(L.P, L.S);
+    hydro::solveFaces(L.P, L.S, led);
+    const double div = (spherical ? 3.0 : 2.0) * a, p_half = p - 0.5 * dt * K * div;
+    for (int i = mesh::kGhost; i < mesh::kGhost + 8; ++i) {
+      const auto si = static_cast<std::size_t>(i);
+      EXPECT_NEAR(L.P.dil[si], div, 1e-12 * div) << "cell " << i;
+      EXPECT_NEAR(L.P.hoop[si], p_half, 1e-9 * p) << "cell " << i;
+    }
+    for (int f = mesh::kGhost + 1; f < mesh::kGhost + 8; ++f) EXPECT_NEAR(L.P.pstar[static_cast<std::size_t>(f)], p_half, 1e-6 * p) << "face " << f;
+  }
 }
 
 TEST(Kernels, WallFaceLoadsTheBodyAndBooksItsWork) {
