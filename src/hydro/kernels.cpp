@@ -212,27 +212,22 @@ static void bookLoadByMaterial(const Pencil& P, const SweepSetup& S, int fluid, 
   }
 }
 
-// The predictor's dilatation rate (Pencil::dil): the velocity slope, plus geo u / r in an r-sweep
-// (geo 1 axisymmetric, 2 spherical; a cell centre is never on the axis). A ghost cell beyond the
-// domain's boundary takes the geometric part of the interior cell it mirrors: a reflecting wall's
-// ghost holds the interior's velocity reversed, and its own -u / r would make the two states of
-// the wall's face differ, moving the wall (on the axis, the mirror's u / r is the ghost's own;
-// beyond an outflow side, whose ghosts copy the last cell, nearly so).
+// An r-sweep's dilatation rate (Pencil::dil): the velocity slope plus geo u / r (geo 1
+// axisymmetric, 2 spherical; a cell centre is never on the axis). A ghost cell beyond the domain's
+// boundary takes the geometric part of the interior cell whose state it holds: a reflecting wall's
+// ghost holds its mirror's velocity reversed, and its own -u / r would make the two states of the
+// wall's face differ and move the wall (on the axis the two are equal); an outflow side's ghosts
+// copy the boundary cell.
 static void dilatationRates(const Pencil& P, const SweepSetup& S, double* dil) {
   const int N = P.N, g = kGhost, n = P.n;
   const double* su = P.su.data();
-  if (!P.radial) {
-    for (int i = 1; i < N - 1; ++i) dil[i] = su[i];
-    return;
-  }
   const double geo = P.spherical ? 2.0 : 1.0;
   const double* un = P.u[static_cast<std::size_t>(S.d)].data();
-  const auto rate = [&](int m) { return geo * un[m] / S.xc[m]; };
   for (int i = 1; i < N - 1; ++i) {
     int m = i;
-    if (i < g && S.lo_is_boundary) m = std::min(2 * g - 1 - i, g + n - 1);
-    if (i >= g + n && S.hi_is_boundary) m = std::max(2 * (g + n) - 1 - i, g);
-    dil[i] = su[i] + rate(m);
+    if (i < g && S.lo_is_boundary) m = S.lo_ghosts_copy ? g : std::min(2 * g - 1 - i, g + n - 1);
+    if (i >= g + n && S.hi_is_boundary) m = S.hi_ghosts_copy ? g + n - 1 : std::max(2 * (g + n) - 1 - i, g);
+    dil[i] = su[i] + geo * un[m] / S.xc[m];
   }
 }
 
@@ -243,7 +238,7 @@ void computeSlopes(Pencil& P, const SweepSetup& S) {
     return;
   }
   limitedSlopes(N, S.inv_dx, P.u[static_cast<std::size_t>(S.d)].data(), P.P.data(), P.su.data(), P.sp.data());
-  dilatationRates(P, S, P.dil.data());
+  if (P.radial) dilatationRates(P, S, P.dil.data());
   if (!anySolid(P)) return;
   for (int i = 1; i < N - 1; ++i) {   // first order beside the body: no slope, no half step
     const std::size_t si = static_cast<std::size_t>(i);
@@ -285,13 +280,14 @@ void solveFaces(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
   const double dt = S.dt, wall_u = S.wall_velocity[static_cast<std::size_t>(S.d)];
   const int g = kGhost, n = P.n;
   const int f0 = g - 1, f1 = g + n + 1;
+  const double* dilatation = P.radial ? P.dil.data() : P.su.data();   // the predictor's (computeSlopes)
   // Every face as between two flow cells, in one branch-free loop (it vectorises); the faces beside
   // the body are overwritten below.
   {
     const double* un = P.u[static_cast<std::size_t>(S.d)].data();
-    acousticFaces(f0, f1, dt, S.width, un, P.su.data(), P.sp.data(), P.rho.data(), P.P.data(), P.Kp.data(), P.dil.data(), P.Z.data(),
+    acousticFaces(f0, f1, dt, S.width, un, P.su.data(), P.sp.data(), P.rho.data(), P.P.data(), P.Kp.data(), dilatation, P.Z.data(),
                   P.ustar.data(), P.pstar.data());
-    if (P.radial) {
+    if (P.radial && S.second_order) {
       // the hoop stress at the same half step as the face stresses it balances (lagrangeUpdate):
       // taken at the step's start it pushed an expanding ring outwards by a force that grew with the step
       for (int i = 1; i < P.N - 1; ++i) {
@@ -324,7 +320,7 @@ void solveFaces(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     if (!(P.solid[L] | P.solid[R])) continue;
     // a wall moving with the body: the flow's half of the Riemann problem, no swept volume
     const auto [uL, pL, uR, pR] = hancockStates(f - 1, f, dt, S.width, un.data(), P.su.data(), P.sp.data(), P.rho.data(), P.P.data(), P.Kp.data(),
-                                                P.dil.data());
+                                                dilatation);
     const double zl = P.Z[L], zr = P.Z[R];
     double ps = 0.0;
     if (!P.solid[L]) ps = std::max(pL + zl * (uL - wall_u), P.pmin[L]);

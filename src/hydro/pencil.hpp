@@ -41,12 +41,12 @@ struct Pencil {
   std::array<std::vector<double>, 3> u;   // velocity components (global axes)
   std::vector<double> rho, P, K, Z, hoop;
   // The stiffness (rho c^2) the MUSCL-Hancock predictor advances the normal and hoop stresses with:
-  // K itself in a pencil of one material; in a mixed cell the mixture's Reuss (Wood) modulus
-  // 1 / sum(alpha_k / K_k) over the materials above kAlphaMin, the stiffness the closure gives the
-  // cell (closeMixedCell shares a volume change by compressibility). K is the Voigt sum, which in
-  // products carrying a dust of sand is the sand's: half a step of it took the face pressure of an
-  // expanding dusty cell far below the cell's own, by an amount proportional to the step
-  // (docs/solver.md, The predictor's stiffness).
+  // K itself in a cell of one material (fragments aside); in a mixed cell the mixture's Reuss (Wood)
+  // modulus 1 / sum(alpha_k / K_k) over the materials above kAlphaMin, the stiffness the closure
+  // gives the cell (closeMixedCell shares a volume change by compressibility). K is the Voigt sum,
+  // which in products carrying a dust of sand is the sand's: half a step of it took the face
+  // pressure of an expanding dusty cell far below the cell's own, by an amount proportional to the
+  // step (docs/solver.md, The predictor).
   std::vector<double> Kp;
   std::vector<double> pmin;                   // the cell's tension limit (volume weighted): a wall's floor
   std::array<std::vector<double>, 2> shear;   // mixture s_{d,t} for the two transverse axes
@@ -66,8 +66,9 @@ struct Pencil {
   std::array<std::vector<double>, 6> fs;
   std::array<std::vector<double>, 3> fmom;
   std::vector<double> su, sp;   // limited slopes of normal velocity and normal stress
-  // The cell's rate of volume change per unit volume that the predictor takes, 1/s: su, plus
-  // u / r (axisymmetric r-sweep) or 2 u / r (spherical), the swept annuli's and shells' growth.
+  // An r-sweep's rate of volume change per unit volume that the predictor takes, 1/s: su plus
+  // u / r (axisymmetric) or 2 u / r (spherical), the swept annuli's and shells' growth (elsewhere
+  // the predictor takes su itself).
   std::vector<double> dil;
   std::vector<unsigned char> solid;
 
@@ -96,6 +97,9 @@ struct SweepSetup {
   // The pencil's end faces are the domain's boundary (their energy flow is booked); false where a
   // slab of the domain meets its neighbour (the face is interior to the whole).
   bool lo_is_boundary = true, hi_is_boundary = true;
+  // Where an end is the domain's boundary, whether its ghosts copy the boundary cell (an outflow
+  // side) rather than mirror the interior (a reflecting wall, the axis).
+  bool lo_ghosts_copy = false, hi_ghosts_copy = false;
 };
 
 // Energy booked by one pencil in one sweep, J (axisymmetric: per radian).
@@ -134,15 +138,16 @@ inline constexpr int bodyEventSize(int M) { return 3 + (1 + kNearWallDepths) * M
 void nearWallShares(const Pencil& P, const SweepSetup& S, int from, int step, double depth, double* share);
 
 // van Leer-limited slopes of the normal velocity and normal stress (first order beside a body),
-// and the dilatation rate the predictor takes (Pencil::dil).
+// and in an r-sweep the dilatation rate the predictor takes (Pencil::dil).
 void computeSlopes(Pencil& P, const SweepSetup& S);
 
 // Acoustic Riemann problem (Z = rho c) with MUSCL-Hancock states at faces 1 .. N-1: face
 // velocity u*, normal stress p*, swept volume. The states are advanced by half a step with the
-// predictor's stiffness (Pencil::Kp) and dilatation rate (Pencil::dil); so is the hoop stress of an
-// r-sweep, which the Lagrange phase balances against the time-centred face stresses. A face beside the body is a wall moving with it:
-// the flow's half of the Riemann problem, never below the flow cell's tension limit (a wall that
-// the flow leaves cannot pull it back), no swept volume; its load goes to `ledger`.
+// predictor's stiffness (Pencil::Kp) and dilatation rate; in an r-sweep P.hoop is advanced to the
+// same half step (once a sweep), since the Lagrange phase balances it against the face stresses.
+// A face beside the body is a wall moving with it: the flow's half of the Riemann problem, never
+// below the flow cell's tension limit (a wall that the flow leaves cannot pull it back), no swept
+// volume; its load goes to `ledger`.
 void solveFaces(Pencil& P, const SweepSetup& S, PencilLedger& ledger);
 
 // Lagrange phase of cells 1 .. N-2: momentum and total energy in flux form, volumes moved,

@@ -1195,6 +1195,8 @@ void Solver::sweep(int d, double dt) {
     S.lo_is_boundary = !halo_lo_;
     S.hi_is_boundary = !halo_hi_;
   }
+  S.lo_ghosts_copy = opt_.boundary[static_cast<std::size_t>(d)][0] == BoundaryKind::Transmit;
+  S.hi_ghosts_copy = opt_.boundary[static_cast<std::size_t>(d)][1] == BoundaryKind::Transmit;
   // Each pencil books its own energy and impulse; they are summed in pencil order afterwards,
   // so the result does not depend on the number of threads.
   // The ledgers (about 1 KB a pencil) are kept from sweep to sweep: allocated anew, every sweep of
