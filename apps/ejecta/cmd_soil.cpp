@@ -84,7 +84,12 @@ int runSoil(const SoilOptions& o) {
   if (!o.json_out.empty()) requireParentExists("json", o.json_out);
   if (!o.csv_dir.empty() && fs::exists(o.csv_dir) && !fs::is_directory(o.csv_dir))
     throw InputError("csv", fmt::format("'{}' exists and is not a directory", o.csv_dir));
-  if (!o.csv_dir.empty()) requireParentExists("csv", fs::path(o.csv_dir).lexically_normal().parent_path() / "x");
+  if (!o.csv_dir.empty()) {
+    // the folder itself, with or without a trailing separator ("vimf/" names the folder vimf)
+    fs::path dir = fs::path(o.csv_dir).lexically_normal();
+    if (!dir.has_filename() && dir.has_parent_path()) dir = dir.parent_path();
+    requireParentExists("csv", dir);
+  }
 
   // Everything is staged first and renamed into place only when all of it succeeded.
   io::OutputTransaction outputs;
@@ -129,7 +134,7 @@ Action addSoilCommand(CLI::App& app) {
   auto o = std::make_shared<SoilOptions>();
   auto* sub = app.add_subcommand("soil", "The two-input sand model: summary, LS-DYNA cards, curves, plot.\n"
                                          "Default soil: EMI sand as received, 1280 kg/m3 dry at 7% moisture.");
-  auto* dry = sub->add_option("--dry-density", o->dry_density, "Dry density, kg/m3 (default 1280), valid (0, grain density)");
+  auto* dry = sub->add_option("--dry-density", o->dry_density, "Dry density, kg/m3 (default 1280), valid [0.3 x grain density, grain density): porosity at most 0.7");
   auto* wet = sub->add_option("--wet-density", o->wet_density, "Wet (gross) density, kg/m3; dry = wet / (1 + moisture)");
   dry->excludes(wet);
   auto* moist = sub->add_option("--moisture", o->moisture,

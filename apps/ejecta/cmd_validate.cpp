@@ -165,7 +165,7 @@ int runValidate(const ValidateOptions& o) {
   if (failure) std::rethrow_exception(failure);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
-  json info{{"ejecta_version", build_info::version}, {"threads", threads}, {"jobs", jobs}, {"wall_s", wall}, {"cpu_s", cpu_s},
+  json info{{"ejecta_version", build_info::version}, {"solver_revision", hydro::kSolverRevision}, {"threads", threads}, {"jobs", jobs}, {"wall_s", wall}, {"cpu_s", cpu_s},
             {"reused", reused}, {"machine", fmt::format("{} cores seen", std::thread::hardware_concurrency())}};
   auto report = scenario::validationReport(plan, outcomes, info);
   if (!o.plot)
@@ -213,7 +213,7 @@ Action addValidateCommand(CLI::App& app) {
   auto o = std::make_shared<ValidateOptions>();
   auto* sub = app.add_subcommand("validate",
                                  "Runs the built-in validation decks (mesh study, moisture, field-test covers, impulse by material,\n"
-                                 "sensitivity to the unknown inputs, DRES soil bubble) and writes the report: validation.md + PNG\n"
+                                 "sensitivity to the unknown inputs, DRES soil bubble, 3D V-plates) and writes the report: validation.md + PNG\n"
                                  "figures, a self-contained validation.html and validation.json. Exit code 4 if a check fails.");
   sub->add_flag("--quick", o->quick, "Coarse cells, a few minutes on 2 cores (the default)");
   sub->add_flag("--full", o->full, "The published resolution: plates at 5 mm, mesh study 10/6/5/4/3 mm, soil bubble 3 mm, sensitivity 10 mm (about 2.5 hours on 2 cores; the 3D V-plates at 10 mm 3-4 hours a case more)");

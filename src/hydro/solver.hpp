@@ -49,10 +49,12 @@ struct DetonationPoint {
 // 6: 3D runs take the axisymmetric early time; 2D results are revision 5's; 7: mixed-cell
 // relaxation at the common pressure of the pressures after the volume change, nothing routed;
 // 8: fragments under SolverOptions::fragment_fold folded into their cells' other materials;
-// 9: outflow boundaries let no detonation products back in, SolverOptions::inflow_barred).
+// 9: outflow boundaries let no detonation products back in, SolverOptions::inflow_barred;
+// 10: the MUSCL-Hancock predictor advances a mixed cell's stresses with its Reuss modulus
+// (Pencil::Kp), an r-sweep's with the whole dilatation, and the hoop stress to the same half step).
 // `ejecta validate --reuse` reruns a case saved by another revision; a checkpoint of another
 // revision is refused (its energy books differ in layout too).
-inline constexpr int kSolverRevision = 9;
+inline constexpr int kSolverRevision = 10;
 
 struct SolverOptions {
   double cfl = 0.45;                     // - Courant number of each sweep

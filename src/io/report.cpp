@@ -18,7 +18,9 @@ std::string checkResult(const json& c) {
 
 std::string runLine(const json& r) {
   const auto& run = r.at("run");
-  std::string s = fmt::format("ejecta {}, level {}", run.value("ejecta_version", "?"), r.value("level", "?"));
+  std::string s = fmt::format("ejecta {}", run.value("ejecta_version", "?"));
+  if (run.contains("solver_revision")) s += fmt::format(" (solver revision {})", run.at("solver_revision").get<int>());
+  s += fmt::format(", level {}", r.value("level", "?"));
   if (run.contains("threads")) s += fmt::format(", {} threads", run.at("threads").get<int>());
   if (run.contains("jobs")) s += fmt::format(" in {} parallel jobs", run.at("jobs").get<int>());
   if (run.contains("machine")) s += ", " + run.at("machine").get<std::string>();

@@ -933,6 +933,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
                 {"wall_seconds", res.wall_s},
                 {"cell_updates_per_second", res.wall_s > 0 ? static_cast<double>(res.steps - steps_before) * static_cast<double>(res.cells) / res.wall_s : 0.0},
                 {"core_cell_size_m", deck.mesh.cell_size_m},
+                {"solver_revision", hydro::kSolverRevision},
                 {"ranks", opt.exchange ? opt.exchange->size() : 1},
                 {"threads", threadCount()},
                 {"restarted_from", opt.restart},

@@ -209,7 +209,7 @@ ValidationPlan validationPlan(ValidationLevel level, const std::vector<std::stri
   };
   auto wants = [&](const std::string& s) { return std::find(plan.studies.begin(), plan.studies.end(), s) != plan.studies.end(); };
   if (wants("mesh"))
-    for (const double h : sz.mesh) add(makeCase("mesh-" + mm(h) + "mm", "mesh-study", h, {}, "fixed massless target, no gravity"));
+    for (const double h : sz.mesh) add(makeCase("mesh-" + mm(h) + "mm", "mesh-study", h, {}, "fixed target, no gravity"));
   if (wants("moisture") || wants("share"))
     for (const auto& [deck, w] : moistureDecks()) add(makeCase(deck, deck, sz.plate, {}, ""));
   if (wants("field") || wants("share"))
@@ -329,7 +329,7 @@ json validationReport(const ValidationPlan& plan, const std::map<std::string, js
     json sec;
     sec["id"] = study;
     if (study == "mesh") {
-      sec["title"] = "Mesh convergence (EMI flat plate, 7%, fixed massless target, no gravity)";
+      sec["title"] = "Mesh convergence (EMI flat plate, 7%, fixed target, no gravity)";
       std::vector<double> h = sz.mesh, imp;
       for (const double c : h) imp.push_back(impulse("mesh-" + mm(c) + "mm"));
       // the finest three: the published claim is that they barely differ

@@ -15,6 +15,8 @@ for f in summary.json history.csv gauges.csv surface_profiles.csv fields.pvd plo
 done
 check "a field snapshot" "ls a/fields/field_0000.vtr > /dev/null 2>&1 && grep -q RectilinearGrid a/fields/field_0000.vtr"
 check "summary parses, impulse > 0" "python3 -c 'import json; d=json.load(open(\"a/summary.json\")); assert d[\"result\"][\"impulse_Ns\"] > 0; assert d[\"deck\"][\"end_time_s\"] == 0.0006'"
+# the numerics' version the results came from (raised with every change that alters them; revision 10: the predictor)
+check "summary names the solver revision" "python3 -c 'import json; r=json.load(open(\"a/summary.json\"))[\"run\"][\"solver_revision\"]; assert isinstance(r, int) and r >= 10, r'"
 check "energy books close: imbalance <= 1e-10 of the charge's energy, every term reported" "python3 -c '
 import json; e = json.load(open(\"a/summary.json\"))[\"energy\"]
 assert abs(e[\"imbalance_fraction\"]) <= 1e-10, e[\"imbalance_fraction\"]

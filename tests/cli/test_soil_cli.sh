@@ -11,6 +11,9 @@ check "png written" "[[ \$(head -c 4 x.png | od -An -c | tr -d ' ') == '211PNG' 
 check "json to stdout parses" "python3 -c 'import json,sys; d=json.load(open(\"j.json\")); assert d[\"state\"][\"dry_density_kg_m3\"]==1280' "
 "$ejecta" soil --wet-density 1670 --moisture 0.22 --csv curves --json s.json --units t-mm-s --lsdyna t.k > /dev/null
 check "csv dir written" "[[ -s curves/loading_curve.csv && -s curves/yield_curve.csv && -s curves/summary.csv && -s s.json ]]"
+# a trailing separator names the folder itself (the README's example: --csv vimf/)
+"$ejecta" soil --dry-density 1490 --saturation 100% --csv vimf/ > /dev/null
+check "csv dir with a trailing slash written" "[[ -s vimf/loading_curve.csv && -s vimf/summary.csv ]]"
 check "t-mm-s density" "grep -q 'Units: t-mm-s' t.k"
 check "no temporary files left" "[[ -z \$(find . -name '.*tmp*') ]]"
 

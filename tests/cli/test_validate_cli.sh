@@ -32,6 +32,7 @@ else
   done
   check "HTML carries the figure inline" "grep -q 'data:image/png;base64,' v/validation.html && ! grep -q 'src=\"vplates.png\"' v/validation.html"
   check "Markdown links the figure" "grep -q '](vplates.png)' v/validation.md"
+  check "the report names the solver revision" "grep -Eq '^ejecta .* \\(solver revision [0-9]+\\), level' v/validation.md"
   check "JSON: four cases, the 90 degree V last" "python3 -c 'import json; d=json.load(open(\"v/validation.json\")); assert len(d[\"cases\"]) == 4; rows=d[\"sections\"][0][\"table\"][\"rows\"]; assert rows[-1][0].startswith(\"90 degree\"), rows[-1]'"
   check "no temporary files left" "[[ -z \$(find . -name '.*tmp*') ]]"
   "$ejecta" validate --quick --only vplates --out v --reuse > w.txt 2> w.err

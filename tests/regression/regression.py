@@ -52,7 +52,7 @@ CASES = {
 }
 
 WHAT = {
-    "mesh-study-10mm-early": "fixed massless plate, no gravity, the early-time block (10 cells per charge height) mapped (2D axisymmetric)",
+    "mesh-study-10mm-early": "fixed plate, no gravity, the early-time block (10 cells per charge height) mapped (2D axisymmetric)",
     "emi-flat-22-40mm": "free 300 kg plate, gravity, friction 0.2, wet sand (2D axisymmetric)",
     "emi-v120-7-3d-60mm": "120 degree V plate, 3D quarter, free plate, gravity, friction",
     "field-cover7-2.5cm-restart": "backfilled cover (5 materials), checkpoint at 0.25 ms, restarted to 1 ms",
