@@ -229,7 +229,10 @@ RezoneReport mapAxisymmetricToQuarter(const Solver& source, Solver& target) {
   checkSameMaterials(source, target);
   if (sg.dims() != 2 || sg.geometry() != mesh::Geometry::Axisymmetric || tg.dims() != 3 || tg.geometry() != mesh::Geometry::Cartesian)
     throw InputError("rezone", "an axisymmetric (r, z) state maps into a 3D Cartesian (x, y, z) quarter");
-  const auto &rf = sg.axis(0).faces(), &xf = tg.axis(0).faces(), &yf = tg.axis(1).faces();
+  // A slab of the quarter (an MPI rank's) takes the pieces of its own columns, each ring scaled over
+  // the whole's columns: every cell the same sums, in the same order, as in the whole.
+  const auto &rf = sg.axis(0).faces(), &xf = tg.wholeFaces0(), &yf = tg.axis(1).faces();
+  const int x_off = tg.offset0(), x_end = tg.offset0() + tg.cells(0);
   if (rf.front() != 0.0 || xf.front() != 0.0 || yf.front() != 0.0 || std::min(xf.back(), yf.back()) < rf.back())
     throw InputError("rezone", "the quarter (x, y >= 0) must start on the axis and hold the source's whole radius");
   // along z the meshes nest (writeSums checks each cell's volume is covered)
@@ -242,7 +245,7 @@ RezoneReport mapAxisymmetricToQuarter(const Solver& source, Solver& target) {
                                              zf.front(), zf.back()));
     zmap3[static_cast<std::size_t>(j)] = static_cast<int>(std::upper_bound(zf.begin(), zf.end(), z) - zf.begin()) - 1;
   }
-  const int nr = sg.cells(0), nx = tg.cells(0), ny = tg.cells(1);
+  const int nr = sg.cells(0), nx = static_cast<int>(xf.size()) - 1, ny = tg.cells(1);
   // each ring's overlap with each column (x, y) of the quarter, scaled so that the ring's area and
   // its first moments sum exactly over the columns (the mass and the momentum then map exactly)
   struct Piece { int ring, column; RingOverlap o; };
@@ -292,11 +295,13 @@ RezoneReport mapAxisymmetricToQuarter(const Solver& source, Solver& target) {
     layer_hit[static_cast<std::size_t>(L)] = 1;
     const double dz = sg.axis(1).faces()[static_cast<std::size_t>(j) + 1] - sg.axis(1).faces()[static_cast<std::size_t>(j)];
     for (const auto& p : pieces) {
-      const std::size_t sc = sg.index(p.ring, j, 0), tc = tg.index(p.column / ny, p.column % ny, L);
+      const int I = p.column / ny - x_off;
+      if (I < 0 || I >= tg.cells(0)) continue;   // another slab's column
+      const std::size_t sc = sg.index(p.ring, j, 0), tc = tg.index(I, p.column % ny, L);
       if (source.isBody(sc)) throw InputError("rezone", "the axisymmetric source holds a body: map before the flow reaches the target");
       if (target.isBody(tc))
         throw InputError("rezone", fmt::format("the axisymmetric state reaches the 3D target's cell at ({:.4g}, {:.4g}, {:.4g}) m: map before the flow reaches it",
-                                               tg.centre(0, p.column / ny), tg.centre(1, p.column % ny), tg.centre(2, L)));
+                                               tg.centre(0, I), tg.centre(1, p.column % ny), tg.centre(2, L)));
       ++rep.source_cells;
       const double a = p.o.area * dz;
       S.vol[tc] += a;
@@ -331,15 +336,15 @@ RezoneReport mapAxisymmetricToQuarter(const Solver& source, Solver& target) {
     }
   }
   // a column the source covers in part keeps its own contents in the rest
-  for (int I = 0; I < nx; ++I)
+  for (int I = x_off; I < x_end; ++I)
     for (int J = 0; J < ny; ++J) {
       const double A = (xf[static_cast<std::size_t>(I) + 1] - xf[static_cast<std::size_t>(I)]) * (yf[static_cast<std::size_t>(J) + 1] - yf[static_cast<std::size_t>(J)]);
       const double f = std::min(covered[static_cast<std::size_t>(I * ny + J)] / A, 1.0);
       if (!(f > 0.0) || f > 1.0 - 1e-12) continue;
       for (int L = 0; L < tg.cells(2); ++L) {
-        const std::size_t tc = tg.index(I, J, L);
+        const std::size_t tc = tg.index(I - x_off, J, L);
         if (!layer_hit[static_cast<std::size_t>(L)] || target.isBody(tc)) continue;
-        S.add(target, tc, tc, (1.0 - f) * tg.cellVolume(I, J, L));
+        S.add(target, tc, tc, (1.0 - f) * tg.cellVolume(I - x_off, J, L));
       }
     }
   writeSums(S, target, rep);

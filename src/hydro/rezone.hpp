@@ -27,7 +27,8 @@ struct RezoneReport {
 
 // Maps `source` onto the cells of `target` that it covers. Both solvers must have the same
 // materials in the same order, the same geometry, and nested meshes where they overlap (throws
-// InputError otherwise). The target's other cells are left as they are.
+// InputError otherwise). The target's other cells are left as they are; a target that is a slab of
+// a decomposed mesh takes the source cells over its own cells, as the whole's would.
 RezoneReport mapNested(const Solver& source, Solver& target);
 
 // The part of the ring r0 <= r < r1 inside the rectangle [x0, x1] x [y0, y1] (x0, y0 >= 0), m2,
@@ -44,7 +45,9 @@ RingOverlap ringOverlap(double x0, double x1, double y0, double y1, double r0, d
 // exactly: the source's quantities per radian times pi / 2, a quarter turn; the kinetic energy one
 // velocity per cell cannot hold is heat, shared among the materials as they lost it. The stress is
 // turned by the overlap's moments. A column the rings cover in part keeps its own contents in the
-// rest. Throws InputError if a body is in the way. (A swirl, u_theta, maps too, though the
+// rest. The target may be one slab of the quarter (mesh::Grid::slab, an MPI rank's): it takes its
+// own columns, each ring still scaled over the whole's, so its cells are the whole's to the bit.
+// Throws InputError if a body is in the way. (A swirl, u_theta, maps too, though the
 // quarter's symmetry planes cannot hold one; the 2D solver keeps it zero.)
 RezoneReport mapAxisymmetricToQuarter(const Solver& source, Solver& target);
 

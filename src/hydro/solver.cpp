@@ -646,7 +646,7 @@ std::size_t Solver::unpackCell(std::size_t c, const std::vector<double>& in, std
   return at;
 }
 
-void Solver::assemble(const Solver& mine, parallel::Exchange& ex) {
+std::vector<double> Solver::packForAssembly(const Solver& mine) {
   const auto& g = mine.grid_;
   const int g0 = kGhost;
   // this slab's columns of axis 0 (with the domain's own ghost columns at its ends), transverse ghosts
@@ -657,13 +657,25 @@ void Solver::assemble(const Solver& mine, parallel::Exchange& ex) {
   // in (i, j, k) order (packCell)
   std::vector<double> out{static_cast<double>(g.offset0() + i_lo), static_cast<double>(g.offset0() + i_hi), mine.energy_.boundary_in,
                           mine.energy_.target_work, mine.energy_.gravity_work, mine.stats_.cell_updates};
-  const std::size_t nm = mats_.size();
+  const std::size_t nm = mine.mats_.size();
   out.insert(out.end(), mine.energy_.folded_mass.begin(), mine.energy_.folded_mass.begin() + static_cast<std::ptrdiff_t>(nm));
   out.insert(out.end(), mine.energy_.boundary_mass.begin(), mine.energy_.boundary_mass.begin() + static_cast<std::ptrdiff_t>(nm));
   for (int i = i_lo; i < i_hi; ++i)
     for (int j = j_lo; j < j_hi; ++j)
       for (int k = k_lo; k < k_hi; ++k) mine.packCell(g.index(i, j, k), out);
-  const auto all = ex.gatherAll(out);
+  return out;
+}
+
+void Solver::sendForAssembly(const Solver& mine, parallel::Exchange& ex) {
+  if (!ex.gatherToFirst(packForAssembly(mine)).empty()) throw RunError("the assembly of the slabs is rank 0's");
+}
+
+void Solver::assemble(const Solver& mine, parallel::Exchange& ex) {
+  if (ex.rank() != 0 || grid_.isSlab()) throw RunError("the slabs are assembled into a whole solver on rank 0");
+  const auto& g = mine.grid_;
+  const int j_lo = -g.ghost(1), j_hi = g.cells(1) + g.ghost(1), k_lo = -g.ghost(2), k_hi = g.cells(2) + g.ghost(2);
+  const std::size_t nm = mats_.size();
+  const auto all = ex.gatherToFirst(packForAssembly(mine));
   energy_ = EnergyLedger{};
   double updates = 0.0;
   std::size_t at = 0;
@@ -1336,9 +1348,13 @@ void Solver::startAt(double t, const EnergyLedger& booked) {
   }
 }
 
-Vec3 Solver::bodyLoad() const {
-  Vec3 f{};
-  if (body_.empty()) return f;
+// The load at rest as (axis, term) pairs in the whole's order of cells and faces: a slab takes the
+// faces whose flow cell is in a neighbouring slab too (its ghosts, exchanged), so that the slabs'
+// lists in rank order are the whole's list.
+std::vector<double> Solver::bodyLoadTerms() const {
+  std::vector<double> terms;
+  if (body_.empty()) return terms;
+  const int off0 = grid_.offset0(), n0 = grid_.globalCells0();
   for (int i = 0; i < grid_.cells(0); ++i)
     for (int j = 0; j < grid_.cells(1); ++j)
       for (int k = 0; k < grid_.cells(2); ++k) {
@@ -1348,7 +1364,9 @@ Vec3 Solver::bodyLoad() const {
           for (int side = 0; side < 2; ++side) {
             int idx[3] = {i, j, k};
             idx[d] += side == 0 ? -1 : 1;
-            if (idx[d] < 0 || idx[d] >= grid_.cells(d)) continue;   // as the sweep: a ghost neighbour is the boundary's
+            // as the sweep: a ghost neighbour is the boundary's (along axis 0, the whole's boundary)
+            const int along = d == 0 ? idx[0] + off0 : idx[d], n = d == 0 ? n0 : grid_.cells(d);
+            if (along < 0 || along >= n) continue;
             const std::size_t nb = grid_.index(idx[0], idx[1], idx[2]);
             if (body_[nb]) continue;
             double rho = 0.0, p = 0.0, kv = 0.0, snn = 0.0, pmin = 0.0;
@@ -1367,10 +1385,27 @@ Vec3 Solver::bodyLoad() const {
             // fluid below the body (side 0) pushes it up the axis; above, down
             const double ps = std::max(side == 0 ? (p - snn) + z * (un - uw) : (p - snn) + z * (uw - un), pmin);
             const double area = side == 0 ? grid_.faceArea(d, i, j, k) : grid_.faceArea(d, idx[0], idx[1], idx[2]);
-            f[static_cast<std::size_t>(d)] += (side == 0 ? 1.0 : -1.0) * ps * area;
+            terms.push_back(d);
+            terms.push_back((side == 0 ? 1.0 : -1.0) * ps * area);
           }
       }
+  return terms;
+}
+
+namespace {
+Vec3 sumBodyLoadTerms(const std::vector<double>& terms) {
+  Vec3 f{};
+  for (std::size_t t = 0; t + 1 < terms.size(); t += 2) f[static_cast<std::size_t>(terms[t])] += terms[t + 1];
   return f;
+}
+}  // namespace
+
+Vec3 Solver::bodyLoad() const { return sumBodyLoadTerms(bodyLoadTerms()); }
+
+Vec3 Solver::wholeBodyLoad() {
+  if (!exchange_ || exchange_->size() == 1) return bodyLoad();
+  exchangeHalo(false);   // the faces whose flow cell is the neighbour's
+  return sumBodyLoadTerms(exchange_->gatherAll(bodyLoadTerms()));
 }
 
 double Solver::nextTimeStep(double stop) {

@@ -199,17 +199,23 @@ class Solver {
   // the body's load summed in the whole domain's order, so that every slab steps exactly as the
   // whole would (bit for bit; tests/unit/test_decomposition.cpp). The energy books and totals()
   // stay this slab's own (their sum over the slabs is the whole's to round-off); bodyLoad() on a
-  // slab is not its share (it skips faces whose flow cell is in a neighbour): take the whole's.
-  // Call before the first step.
+  // slab is not its share (it skips faces whose flow cell is in a neighbour): take the whole's,
+  // wholeBodyLoad(). Call before the first step. A slab may be built as one (a solver on
+  // Grid::slab, painted and mapped onto there) or cut from the whole (slab()).
   void setExchange(parallel::Exchange* ex);
+  // bodyLoad() of the whole domain, the same to the bit, on every slab of `ex` (every slab calls it:
+  // it swaps the ghost layers and gathers the slabs' faces in the whole's order).
+  Vec3 wholeBodyLoad();
   // This solver's slab [begin, end) of axis 0 as a solver of its own, in the same state (its cells,
   // ghosts included, the body, the moving mesh, the clock); the slab holding cell 0 keeps the energy
   // books so far, the others start theirs at zero (so that the slabs' books sum to the whole's).
   Solver slab(int begin, int end) const;
-  // This (whole) solver takes the state the slabs of `ex` hold now, `mine` being this rank's: every
-  // rank gets every cell (for checkpoints and the end state's books), the clock and the mesh, and the
-  // energy books summed over the slabs.
+  // This whole solver, on rank 0, takes the state the slabs of `ex` hold now, `mine` being rank 0's:
+  // every cell (for a checkpoint), the clock and the mesh, and the energy books summed over the
+  // slabs. The other ranks call sendForAssembly with theirs at the same time; only rank 0 holds the
+  // whole.
   void assemble(const Solver& mine, parallel::Exchange& ex);
+  static void sendForAssembly(const Solver& mine, parallel::Exchange& ex);
 
   // --- checkpoints: the whole state, bit for bit ------------------------------------------------
   void writeCheckpoint(std::ostream& os) const;
@@ -261,6 +267,8 @@ class Solver {
   enum class GhostFill { Everything, StatesAndVelocity };
   void fillGhosts(int d, GhostFill what = GhostFill::Everything);
   void barInflow(int d, int side, const std::vector<std::size_t>& ghosts, const std::vector<std::size_t>& sources);
+  static std::vector<double> packForAssembly(const Solver& mine);
+  std::vector<double> bodyLoadTerms() const;
   void exchangeHalo(bool weights);   // axis 0's ghost layers from the neighbouring slabs: the state, or the interface weights
   void combineBodyLoad(const std::vector<double>& events);
   void packCell(std::size_t c, std::vector<double>& out) const;   // one cell's state, in the slabs' order

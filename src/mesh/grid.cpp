@@ -113,6 +113,7 @@ Grid Grid::slab(int begin, int end) const {
   }
   s.offset0_ = begin;
   s.global0_ = n_[0];
+  s.whole_faces0_ = f;
   return s;
 }
 

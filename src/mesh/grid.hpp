@@ -100,6 +100,9 @@ class Grid {
   int offset0() const { return offset0_; }
   int globalCells0() const { return global0_; }
   bool isSlab() const { return global0_ != n_[0]; }
+  // The whole domain's faces along axis 0 (a slab's own axis holds only its part): what a mapping
+  // onto a slab needs to treat each of the whole's columns as the whole would.
+  const std::vector<double>& wholeFaces0() const { return whole_faces0_.empty() ? axes_[0].faces() : whole_faces0_; }
 
  private:
   void axisGeometry(int d);   // faces, centres and widths of axis d, ghosts included
@@ -111,6 +114,7 @@ class Grid {
   std::size_t total_ = 0;
   std::array<std::vector<double>, 3> fx_, xc_, dx_;
   int offset0_ = 0, global0_ = 0;   // a slab's first cell and the whole domain's cells along axis 0
+  std::vector<double> whole_faces0_;   // a slab's: the whole's faces along axis 0 (empty in the whole)
 };
 
 }  // namespace ejecta::mesh

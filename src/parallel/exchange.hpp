@@ -29,6 +29,9 @@ class Exchange {
   virtual double minimum(double value) = 0;
   // Every block's `mine`, concatenated in rank order, on every block.
   virtual std::vector<double> gatherAll(const std::vector<double>& mine) = 0;
+  // The same on block 0 alone (the others get nothing): what one block assembles, such as the
+  // whole's state for a checkpoint, without every block holding it.
+  virtual std::vector<double> gatherToFirst(const std::vector<double>& mine) = 0;
 };
 
 // Every block's `mine` that is not empty, in rank order, joined by "; ", on every block: the words

@@ -62,4 +62,18 @@ std::vector<double> MpiExchange::gatherAll(const std::vector<double>& mine) {
   return all;
 }
 
+std::vector<double> MpiExchange::gatherToFirst(const std::vector<double>& mine) {
+  const int n = count(mine.size());
+  std::vector<int> counts(rank_ == 0 ? static_cast<std::size_t>(size_) : 0), offsets(counts.size(), 0);
+  check(MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm_), "MPI_Gather");
+  std::size_t total = 0;
+  for (std::size_t r = 0; r < counts.size(); ++r) {
+    offsets[r] = count(total);
+    total += static_cast<std::size_t>(counts[r]);
+  }
+  std::vector<double> all(total);
+  check(MPI_Gatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, 0, comm_), "MPI_Gatherv");
+  return all;
+}
+
 }  // namespace ejecta::parallel

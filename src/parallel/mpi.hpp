@@ -19,6 +19,7 @@ class MpiExchange final : public Exchange {
                 std::vector<double>& from_hi) override;
   double minimum(double value) override;
   std::vector<double> gatherAll(const std::vector<double>& mine) override;
+  std::vector<double> gatherToFirst(const std::vector<double>& mine) override;
 
  private:
   MPI_Comm comm_ = MPI_COMM_NULL;

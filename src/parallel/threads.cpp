@@ -36,6 +36,11 @@ class ThreadMember final : public Exchange {
     team_.barrier_.arrive_and_wait();
     return all;
   }
+  std::vector<double> gatherToFirst(const std::vector<double>& mine) override {
+    auto all = gatherAll(mine);
+    if (rank_ != 0) all.clear();
+    return all;
+  }
 
  private:
   ThreadTeam& team_;

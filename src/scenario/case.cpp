@@ -33,7 +33,23 @@ ChargeGeometry chargeGeometry(const ChargeSpec& c) {
 }
 
 
-Case buildCase(const Deck& deck, const FineBlock* block) {
+bool Case::isBodyCell(std::size_t whole_cell) const {
+  if (!body_inside) return false;
+  const auto& g = grid();
+  const auto ix = g.unflatten(whole_cell);
+  hydro::Vec3 x{g.centre(0, ix.i), g.centre(1, ix.j), g.centre(2, ix.k)};
+  if (g.curvilinear()) x[0] = std::abs(x[0]);   // as Solver::setBody
+  return body_inside(x);
+}
+
+parallel::Slab rankSlab(const mesh::Grid& whole, int rank, int ranks) {
+  if (whole.cells(0) < mesh::kGhost * ranks)   // every rank finds it alike, so every rank stops
+    throw InputError("ranks", fmt::format("{} ranks need at least {} cells along the first axis ({} per slab); the mesh has {}", ranks,
+                                          mesh::kGhost * ranks, mesh::kGhost, whole.cells(0)));
+  return parallel::slabs(whole.cells(0), ranks)[static_cast<std::size_t>(rank)];
+}
+
+Case buildCase(const Deck& deck, const FineBlock* block, const RankPart* part) {
   const auto& m = deck.mesh;
   const double h = m.cell_size_m;
   const mesh::Axis r_axis = block ? mesh::Axis::uniform(0.0, block->r_max_m, block->run_cells_r * block->ratio)
@@ -89,10 +105,10 @@ Case buildCase(const Deck& deck, const FineBlock* block) {
   o.detonation.push_back({det, 0.0});
   o.initial_dt_fraction = 0.1;
   o.body_friction = deck.target.kind != "none" ? deck.target.friction : 0.0;
-  if (three_d)
-    cs.solver = std::make_unique<hydro::Solver>(mesh::Grid(3, mesh::Geometry::Cartesian, {r_axis, r_axis, z_axis}), mats, o);
-  else
-    cs.solver = std::make_unique<hydro::Solver>(mesh::Grid(2, mesh::Geometry::Axisymmetric, {r_axis, z_axis, mesh::Axis{}}), mats, o);
+  cs.whole_grid = three_d ? mesh::Grid(3, mesh::Geometry::Cartesian, {r_axis, r_axis, z_axis})
+                          : mesh::Grid(2, mesh::Geometry::Axisymmetric, {r_axis, z_axis, mesh::Axis{}});
+  cs.slab = part && part->ranks > 1 ? rankSlab(*cs.whole_grid, part->rank, part->ranks) : parallel::Slab{0, cs.whole_grid->cells(0)};
+  cs.solver = std::make_unique<hydro::Solver>(part && part->ranks > 1 ? cs.whole_grid->slab(cs.slab.begin, cs.slab.end) : *cs.whole_grid, mats, o);
   auto& s = *cs.solver;
   // shapes see (radius from the vertical axis, height) whatever the mesh
   auto rz = [three_d](const hydro::Vec3& x) { return three_d ? std::array<double, 2>{std::hypot(x[0], x[1]), x[2]} : std::array<double, 2>{x[0], x[1]}; };
@@ -132,7 +148,10 @@ Case buildCase(const Deck& deck, const FineBlock* block) {
       p.r_inner_m = t.kind == "annulus" ? t.inner_radius_m : 0.0;
       p.r_outer_m = t.radius_m;
       p.area_m2 = M_PI * (p.r_outer_m * p.r_outer_m - p.r_inner_m * p.r_inner_m);
-      s.setBody([p, &rz](const hydro::Vec3& x) { const auto q = rz(x); return q[0] >= p.r_inner_m && q[0] < p.r_outer_m && q[1] >= p.z_bottom_m && q[1] < p.z_top_m; });
+      cs.body_inside = [p, three_d](const hydro::Vec3& x) {
+        const double r = three_d ? std::hypot(x[0], x[1]) : x[0], z = three_d ? x[2] : x[1];
+        return r >= p.r_inner_m && r < p.r_outer_m && z >= p.z_bottom_m && z < p.z_top_m;
+      };
     } else {
       // rectangle, or a V whose ridge runs along x with its keel down: each wing rises at
       // (90 - apex/2) degrees; thickness measured across the wing.
@@ -142,13 +161,14 @@ Case buildCase(const Deck& deck, const FineBlock* block) {
       p.area_m2 = 4.0 * hl * hw;
       p.r_outer_m = std::hypot(hl, hw);
       const double z0 = t.standoff_m;
-      s.setBody([=](const hydro::Vec3& x) {
+      cs.body_inside = [=](const hydro::Vec3& x) {
         const double ax = std::abs(x[0]), ay = std::abs(x[1]);
         if (ax >= hl || ay >= hw) return false;
         const double zb = z0 + ay * rise;
         return x[2] >= zb && x[2] < zb + thick;
-      });
+      };
     }
+    s.setBody(cs.body_inside);
   }
   return cs;
 }

@@ -1,11 +1,14 @@
 #pragma once
 // From a deck to a ready solver: the graded r-z mesh, the materials (air, the explosive's
 // products, one sand model per soil layer and the backfill), the painted regions and the target.
+#include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "hydro/solver.hpp"
+#include "parallel/exchange.hpp"
 #include "scenario/deck.hpp"
 
 namespace ejecta::scenario {
@@ -22,7 +25,13 @@ struct PlateGeometry {
 };
 
 struct Case {
-  std::unique_ptr<hydro::Solver> solver;
+  std::unique_ptr<hydro::Solver> solver;   // the whole domain's, or (built for a slab) that slab's alone
+  std::optional<mesh::Grid> whole_grid;    // the whole domain's mesh, whichever part the solver holds
+  // The target's cells (what Solver::setBody was given); empty without a target.
+  std::function<bool(const hydro::Vec3&)> body_inside;
+  parallel::Slab slab;                     // the cells along axis 0 the solver holds (all in the whole)
+  const mesh::Grid& grid() const { return *whole_grid; }
+  bool isBodyCell(std::size_t whole_cell) const;   // a cell of the whole's mesh, as Solver::isBody
   int vertical = 1;          // the mesh axis that points up (1 in r-z, 2 in 3D)
   double symmetry = 0.0;     // modelled part -> whole: 2 pi (per radian, axisymmetric) or 4 (quarter)
   std::vector<std::string> material_kind;   // per material: "air", "products" or "soil"
@@ -40,8 +49,17 @@ struct FineBlock {
   int run_cells_r = 0, run_cells_z = 0;
 };
 
-// The deck's case on its graded mesh, or (with `block`) on that block alone.
-Case buildCase(const Deck& deck, const FineBlock* block = nullptr);
+// The cells along axis 0 that rank `rank` of `ranks` holds and steps (parallel::slabs); throws
+// InputError (key "ranks") where the whole has too few cells for that many slabs.
+parallel::Slab rankSlab(const mesh::Grid& whole, int rank, int ranks);
+
+// The deck's case on its graded mesh, or (with `block`) on that block alone; with `part` the solver
+// holds only that rank's slab of cells along axis 0 (rankSlab; Solver::setExchange joins the
+// slabs), painted as the whole's, so that no rank holds the whole.
+struct RankPart {
+  int rank = 0, ranks = 1;
+};
+Case buildCase(const Deck& deck, const FineBlock* block = nullptr, const RankPart* part = nullptr);
 ChargeGeometry chargeGeometry(const ChargeSpec& c);
 
 }  // namespace ejecta::scenario

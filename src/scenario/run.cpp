@@ -246,7 +246,7 @@ struct EarlyPlan {
 std::optional<EarlyPlan> planEarly(const Deck& deck, const Case& cs) {
   const auto& e = deck.early;
   const double H = cs.charge.height_m;
-  const auto& g = cs.solver->grid();
+  const auto& g = cs.grid();
   const bool three_d = cs.vertical == 2;
   const int up = cs.vertical;
   if (!e.enabled || (three_d && deck.charge.shape == "box")) return std::nullopt;
@@ -318,9 +318,9 @@ std::optional<EarlyPlan> planEarly(const Deck& deck, const Case& cs) {
 // The checks of a case's set-up that need its mesh (loadDeck made the deck's own): gauges in the
 // flow, and a fresh run's end after its early time. buildCase has checked the charge's place.
 void checkSetUp(const Deck& deck, const Case& cs, bool fresh) {
-  const auto& g = cs.solver->grid();
+  const auto& g = cs.grid();
   for (const auto& p : deck.output.gauges_m)   // a gauge reads the flow: in the target's cells it reads nothing
-    if (cs.solver->isBody(cellAt(g, cs.vertical, p[0], p[1])))
+    if (cs.isBodyCell(cellAt(g, cs.vertical, p[0], p[1])))
       throw InputError("output.gauges_m", fmt::format("gauge ({:g}, {:g}) m lies in the target's cells; valid: a point in the flow", p[0], p[1]));
   if (!fresh) return;
   if (const auto plan = planEarly(deck, cs); plan && deck.end_time_s < plan->map_time_s)
@@ -393,33 +393,68 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   auto say = [&](const std::string& m) {
     if (opt.log) opt.log(m);
   };
-  Case cs = buildCase(deck);   // validates everything before the run folder is touched
+  parallel::Exchange* const ex = opt.exchange && opt.exchange->size() > 1 ? opt.exchange : nullptr;   // MPI ranks
+  const bool writer = !opt.exchange || opt.exchange->rank() == 0;                                      // writes the run folder
+  // On MPI ranks each rank builds, paints and steps only its slab of the run mesh (no rank holds the
+  // whole); a restart reads the whole checkpoint, then keeps its slab. Validates everything before
+  // the run folder is touched.
+  const RankPart part{ex ? ex->rank() : 0, ex ? ex->size() : 1};
+  Case cs = buildCase(deck, nullptr, ex && opt.restart.empty() ? &part : nullptr);
   checkSetUp(deck, cs, opt.restart.empty());
-  auto& s = *cs.solver;
-  const auto& g = s.grid();
+  hydro::Solver* rs = cs.solver.get();   // this rank's solver: the whole, or its slab
+  if (rs->grid().isSlab()) rs->setExchange(ex);
+  const auto& g = cs.grid();             // the whole's mesh (its radial axis never moves)
   const auto up = static_cast<std::size_t>(cs.vertical);
   DriverState st;
   st.target.z = cs.plate.z_bottom_m;
-  parallel::Exchange* const ex = opt.exchange && opt.exchange->size() > 1 ? opt.exchange : nullptr;   // MPI ranks
-  const bool writer = !opt.exchange || opt.exchange->rank() == 0;                                      // writes the run folder
-  st.energy_initial = s.totals().total();
-  const double static_run = cs.plate.present ? cs.symmetry * s.bodyLoad()[up] : 0.0;   // N, the load at rest
+  // The totals of the whole: on slabs the cells' sums column by column in the whole's order (the
+  // same numbers as one process), the energy and mass books summed over the slabs (to round-off).
+  auto totalsNow = [&]() {
+    if (!rs->grid().isSlab()) return rs->totals();
+    auto t = rs->totalsOf(ex->gatherAll(rs->columnTotals()));
+    const auto& l = rs->energyLedger();
+    const std::size_t nm = static_cast<std::size_t>(rs->materialCount()), per = 3 + 2 * nm;
+    std::vector<double> mine{l.boundary_in, l.target_work, l.gravity_work};
+    mine.insert(mine.end(), l.folded_mass.begin(), l.folded_mass.begin() + static_cast<std::ptrdiff_t>(nm));
+    mine.insert(mine.end(), l.boundary_mass.begin(), l.boundary_mass.begin() + static_cast<std::ptrdiff_t>(nm));
+    const auto books = ex->gatherAll(mine);
+    t.boundary_in = t.target_work = t.gravity_work = 0.0;
+    for (std::size_t k = 0; k < nm; ++k) t.folded_mass[k] = t.boundary_mass[k] = 0.0;
+    for (std::size_t r = 0; r + per <= books.size(); r += per) {
+      t.boundary_in += books[r];
+      t.target_work += books[r + 1];
+      t.gravity_work += books[r + 2];
+      for (std::size_t k = 0; k < nm; ++k) {
+        t.folded_mass[k] += books[r + 3 + k];
+        t.boundary_mass[k] += books[r + 3 + nm + k];
+      }
+    }
+    return t;
+  };
+  st.energy_initial = totalsNow().total();
+  const double static_run = cs.plate.present ? cs.symmetry * rs->wholeBodyLoad()[up] : 0.0;   // N, the load at rest
   // A free target carries the mesh between the uniform core's bottom and the domain's top with it.
-  if (cs.plate.present && deck.target.motion == "free" && deck.target.move_mesh) s.moveMeshWithBody(cs.vertical, deck.mesh.core_bottom_m, deck.mesh.domain_top_m);
+  if (cs.plate.present && deck.target.motion == "free" && deck.target.move_mesh) rs->moveMeshWithBody(cs.vertical, deck.mesh.core_bottom_m, deck.mesh.domain_top_m);
   if (!opt.restart.empty()) {
     std::istringstream in(io::readCheckpointFile(opt.restart, checkpointHeader(deck, 0.0), nullptr));
-    s.readCheckpoint(in);
+    rs->readCheckpoint(in);
     getState(in, st, static_cast<std::size_t>(g.cells(0)));
     checkGauges(st, deck.output.gauges_m.size());
     if (!in) throw InputError("restart", "the checkpoint is truncated");
-    if (!(s.time() < deck.end_time_s))
-      throw InputError("end_time_s", fmt::format("{:g} s is not after the checkpoint's time, {:g} s", deck.end_time_s, s.time()));
-    if (opt.checkpoint_at_s > 0.0 && !(opt.checkpoint_at_s > s.time()))
-      throw InputError("checkpoint-at", fmt::format("{:g} s is not after the checkpoint's time, {:g} s", opt.checkpoint_at_s, s.time()));
-    say(fmt::format("restarted from {} at t = {:.6g} s", opt.restart, s.time()));
+    if (!(rs->time() < deck.end_time_s))
+      throw InputError("end_time_s", fmt::format("{:g} s is not after the checkpoint's time, {:g} s", deck.end_time_s, rs->time()));
+    if (opt.checkpoint_at_s > 0.0 && !(opt.checkpoint_at_s > rs->time()))
+      throw InputError("checkpoint-at", fmt::format("{:g} s is not after the checkpoint's time, {:g} s", opt.checkpoint_at_s, rs->time()));
+    say(fmt::format("restarted from {} at t = {:.6g} s", opt.restart, rs->time()));
+    if (ex) {   // this rank's slab of the whole the checkpoint held; the whole goes
+      cs.slab = rankSlab(g, ex->rank(), ex->size());
+      cs.solver = std::make_unique<hydro::Solver>(rs->slab(cs.slab.begin, cs.slab.end));
+      rs = cs.solver.get();
+      rs->setExchange(ex);
+    }
     // The output times are this deck's (a restart may change them): those at or before the
     // checkpoint's time were the earlier run's to take; the snapshots and profiles it took stay.
-    const double t0 = s.time();
+    const double t0 = rs->time();
     auto firstAfter = [t0](const std::vector<double>& times) {
       std::size_t i = 0;
       while (i < times.size() && t0 >= times[i] * (1.0 - 1e-12)) ++i;
@@ -448,32 +483,16 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
 
   const coupling::Target target(cs.plate.present, deck.target.motion == "free", deck.target.mass_kg, deck.gravity ? 9.81 : 0.0, cs.symmetry,
                                 cs.vertical, cs.material_kind);
-  // On MPI ranks the whole is built (and its early time run) on every rank, then each steps its
-  // slab (`rs`); what a sample needs from the whole is summed or gathered in rank order.
-  std::unique_ptr<hydro::Solver> slab;
-  hydro::Solver* rs = &s;
-  auto totalsNow = [&]() {
-    if (!slab) return rs->totals();
-    // the cells' sums column by column in the whole's order (the same numbers as one process);
-    // the energy books summed over the slabs (to round-off)
-    auto t = rs->totalsOf(ex->gatherAll(rs->columnTotals()));
-    const auto& l = rs->energyLedger();
-    const auto books = ex->gatherAll({l.boundary_in, l.target_work, l.gravity_work});
-    t.boundary_in = t.target_work = t.gravity_work = 0.0;
-    for (std::size_t r = 0; r + 3 <= books.size(); r += 3) {
-      t.boundary_in += books[r];
-      t.target_work += books[r + 1];
-      t.gravity_work += books[r + 2];
-    }
-    return t;
-  };
+  // On MPI ranks each steps its slab (`rs`); what a sample needs from the whole is summed or gathered
+  // in rank order.
+  const bool split = rs->grid().isSlab();
   auto profileNow = [&]() {   // per column of axis 0: the slabs' columns in rank order are the whole's
     auto z = surfaceProfile(cs, *rs, deck.output.surface_soil_fraction);
-    return slab ? ex->gatherAll(z) : z;
+    return split ? ex->gatherAll(z) : z;
   };
   // a gauge's pressure, from the slab that holds its cell (the radial axis never moves)
   auto gaugeNow = [&](const std::vector<double>& p) {
-    if (!slab) return rs->pressure(cellAt(rs->grid(), cs.vertical, p[0], p[1]));
+    if (!split) return rs->pressure(cellAt(rs->grid(), cs.vertical, p[0], p[1]));
     const auto& f = g.axis(0).faces();
     const int i = std::clamp(static_cast<int>(std::upper_bound(f.begin(), f.end(), p[0]) - f.begin()) - 1, 0, g.cells(0) - 1);
     const auto& sg = rs->grid();
@@ -548,8 +567,8 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   };
   auto writeField = [&]() {
     const std::string stem = fmt::format("field_{:04d}", st.field_times.size());   // numbered as taken
-    if (!slab) {
-      if (writer) io::writeFileAtomically(out / "fields" / (stem + ".vtr"), [&](std::ostream& os) { io::writeVtr(os, s); });
+    if (!split) {
+      if (writer) io::writeFileAtomically(out / "fields" / (stem + ".vtr"), [&](std::ostream& os) { io::writeVtr(os, *rs); });
     } else {
       // Each rank writes its slab as a piece, and rank 0 the index once every piece is on disk: no
       // rank gathers the whole, and a snapshot whose piece failed gets no index.
@@ -572,7 +591,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     }
     st.field_times.push_back(rs->time());
   };
-  if (s.time() == 0.0) record();
+  if (rs->time() == 0.0) record();
 
   // ---- the early time: the detonation and first expansion on a fine block, mapped onto the run mesh
   nlohmann::json early_json = {{"enabled", deck.early.enabled}, {"used", false}};
@@ -592,12 +611,12 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     // The target on the fine block is the run mesh's, cell for cell (the staircase of a run cell
     // is the staircase of its fine cells), so that the mapping moves no material into the target.
     if (cs.plate.present && !onto_3d)
-      fs_.setBody([&g, &s](const hydro::Vec3& x) {
+      fs_.setBody([&g, &cs](const hydro::Vec3& x) {
         auto at = [&g](int d, double v) {
           const auto& f = g.axis(d).faces();
           return std::clamp(static_cast<int>(std::upper_bound(f.begin(), f.end(), v) - f.begin()) - 1, 0, g.cells(d) - 1);
         };
-        return s.isBody(g.index(at(0, x[0]), at(1, x[1]), 0));
+        return cs.isBodyCell(g.index(at(0, x[0]), at(1, x[1]), 0));
       });
     const auto& fg = fs_.grid();
     say(fmt::format("early time: fine block r <= {:.3f} m, z {:.3f} to {:.3f} m, {} x {} cells of {:.3g} mm ({:.1f} per charge height), to t = {:.3g} us",
@@ -634,7 +653,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     const auto fine_tot = fs_.totals();
     // The block must have held everything until the map: what crossed its cut sides never reaches
     // the run mesh outside it (the books would still close, so this is checked on its own).
-    const double charge_energy = deck.charge.mass_kg * s.materials()[1].jwl.e0 / s.materials()[1].jwl.rho0;
+    const double charge_energy = deck.charge.mass_kg * rs->materials()[1].jwl.e0 / rs->materials()[1].jwl.rho0;
     const double leaked = std::abs(fine.symmetry * fine_tot.boundary_in);
     std::vector<std::string> early_warnings;
     if (leaked > 1e-3 * charge_energy)
@@ -645,11 +664,22 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
       early_warnings.push_back(fmt::format("the map time {:.3g} us comes before the burn ends ({:.3g} us): the run mesh finishes the burn",
                                            1e6 * fs_.time(), 1e6 * plan->burn_time_s));
     for (const auto& w : early_warnings) say("early time: warning: " + w);
-    const auto rz = onto_3d ? hydro::mapAxisymmetricToQuarter(fs_, s) : hydro::mapNested(fs_, s);
+    // (on ranks each maps onto its own slab; the fine block's books go to rank 0's, as a slab cut
+    // from the whole keeps them on the slab holding cell 0)
+    auto rz = onto_3d ? hydro::mapAxisymmetricToQuarter(fs_, *rs) : hydro::mapNested(fs_, *rs);
+    if (split) {
+      const auto all = ex->gatherAll({static_cast<double>(rz.source_cells), static_cast<double>(rz.target_cells), rz.heat_J});
+      rz = {};
+      for (std::size_t r = 0; r + 3 <= all.size(); r += 3) {
+        rz.source_cells += static_cast<std::size_t>(all[r]);
+        rz.target_cells += static_cast<std::size_t>(all[r + 1]);
+        rz.heat_J += all[r + 2];
+      }
+    }
     const auto& led = fs_.energyLedger();
-    s.startAt(fs_.time(), led.scaled(to_run));
+    rs->startAt(fs_.time(), !split || ex->rank() == 0 ? led.scaled(to_run) : hydro::EnergyLedger{});
     // the initial energy as the fine run painted the block: the books then close over both runs
-    st.energy_initial = s.totals().total() - to_run * (fine_tot.total() - e_fine0);
+    st.energy_initial = totalsNow().total() - to_run * (fine_tot.total() - e_fine0);
     const double wall_early = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_early0).count();
     early_json = {{"enabled", true},
                   {"used", true},
@@ -670,22 +700,11 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     say(fmt::format("early time: mapped {} fine {} onto {} run cells at t = {:.3g} us ({:.1f} s); the kinetic energy one velocity per run cell "
                     "cannot hold, {:.3g} J, is heat",
                     rz.source_cells, onto_3d ? "ring-column pieces" : "cells", rz.target_cells, 1e6 * fs_.time(), wall_early, cs.symmetry * rz.heat_J));
-    st.next_history = s.time();
+    st.next_history = rs->time();
     record();
   }
 
-  // ---- on MPI ranks: from here each rank steps its slab of the run mesh
-  if (ex) {
-    if (g.cells(0) < mesh::kGhost * ex->size())   // every rank finds it alike, so every rank stops
-      throw InputError("ranks", fmt::format("{} ranks need at least {} cells along the first axis ({} per slab); the mesh has {}", ex->size(),
-                                            mesh::kGhost * ex->size(), mesh::kGhost, g.cells(0)));
-    const auto slabs = parallel::slabs(g.cells(0), ex->size());
-    const auto& part = slabs[static_cast<std::size_t>(ex->rank())];
-    slab = std::make_unique<hydro::Solver>(s.slab(part.begin, part.end));
-    slab->setExchange(ex);
-    rs = slab.get();
-    say(fmt::format("{} MPI ranks: this rank steps cells {} to {} of {} along axis 0", ex->size(), part.begin, part.end - 1, g.cells(0)));
-  }
+  if (ex) say(fmt::format("{} MPI ranks: this rank steps cells {} to {} of {} along axis 0", ex->size(), cs.slab.begin, cs.slab.end - 1, g.cells(0)));
   const long long steps_before = rs->stats().steps;
   const double t_step_from = rs->time();
   const auto t_step0 = std::chrono::steady_clock::now();
@@ -706,13 +725,22 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   }
   // The whole's state and the driver's at this step's end: one file whatever the number of ranks
   // (a restart may use any number). Writing it changes nothing in the run.
+  // On ranks rank 0 assembles the whole for the file alone, on a whole built for it and then let go.
   auto writeCheckpoint = [&]() {
-    if (slab) s.assemble(*rs, *ex);
+    std::optional<Case> whole;
+    if (split && writer) {
+      whole = buildCase(deck);
+      if (cs.plate.present && deck.target.motion == "free" && deck.target.move_mesh)
+        whole->solver->moveMeshWithBody(cs.vertical, deck.mesh.core_bottom_m, deck.mesh.domain_top_m);
+      whole->solver->assemble(*rs, *ex);
+    } else if (split) {
+      hydro::Solver::sendForAssembly(*rs, *ex);
+    }
     std::string failed;
     if (writer) {
       try {
         std::ostringstream payload;
-        s.writeCheckpoint(payload);
+        (whole ? *whole->solver : *rs).writeCheckpoint(payload);
         DriverState at = st;   // (a copy: the wall time so far goes into the file, not into the run's state)
         at.wall_before_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_wall0).count();
         putState(payload, at);
@@ -794,7 +822,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     }
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_wall0).count();
-  if (slab) s.assemble(*rs, *ex);   // the end state of the whole, for the books and the summary
+  const auto end_totals = totalsNow();   // the end state of the whole, for the books and the summary
 
   RunResult res;
   res.impulse_Ns = ts.impulse;
@@ -805,7 +833,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   res.peak_force_N = ts.peak_force;
   res.final_velocity_m_s = ts.v;
   res.displacement_m = ts.z - cs.plate.z_bottom_m;
-  res.steps = s.stats().steps;
+  res.steps = rs->stats().steps;
   res.cells = g.interiorCells();
   res.wall_s = wall;
   res.wall_before_s = st.wall_before_s;
@@ -868,15 +896,15 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
                    {"peak_force_N", res.peak_force_N},
                    {"final_plate_velocity_m_s", res.final_velocity_m_s},
                    {"plate_displacement_m", res.displacement_m},
-                   {"end_time_s", s.time()}};
-  const std::size_t nmat = static_cast<std::size_t>(s.materialCount());
+                   {"end_time_s", rs->time()}};
+  const std::size_t nmat = static_cast<std::size_t>(rs->materialCount());
   {
     // The energy books: nothing enters or leaves but through the boundaries, the target and
     // gravity, so final = initial + inflow - work on the target + gravity's work, to round-off.
     double e_charge = 0.0;
     for (std::size_t k = 0; k < nmat; ++k)
-      if (cs.material_kind[k] == "products") e_charge = deck.charge.mass_kg * s.materials()[k].jwl.e0 / s.materials()[k].jwl.rho0;
-    const auto tot = s.totals();
+      if (cs.material_kind[k] == "products") e_charge = deck.charge.mass_kg * rs->materials()[k].jwl.e0 / rs->materials()[k].jwl.rho0;
+    const auto& tot = end_totals;
     const double f = cs.symmetry;
     const double e0 = f * st.energy_initial, e1 = f * tot.total();
     const double imbalance = e1 - f * tot.accounted(st.energy_initial);
@@ -904,22 +932,22 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     // Global totals at the end, for the regression tier (tests/regression) and conservation checks:
     // each material's mass (what left through the outflow boundaries is gone) and the flow's
     // momentum along the vertical (the other components cancel by symmetry), for the whole charge.
-    const auto tot = s.totals();
+    const auto& tot = end_totals;
     nlohmann::json mats = nlohmann::json::array();
     for (std::size_t k = 0; k < nmat; ++k)
-      mats.push_back({{"name", s.materials()[k].name}, {"kind", cs.material_kind[k]}, {"mass_kg", cs.symmetry * tot.mass[k]}});
+      mats.push_back({{"name", rs->materials()[k].name}, {"kind", cs.material_kind[k]}, {"mass_kg", cs.symmetry * tot.mass[k]}});
     sum["totals"] = {{"materials", mats}, {"flow_momentum_vertical_Ns", cs.symmetry * tot.momentum[up]}};
     // Fragments folded into other materials (docs/solver.md, Fragments): books, summed pencil by
     // pencil (on MPI ranks slab by slab, so equal to round-off, where totals are equal to the bit).
     nlohmann::json folded = nlohmann::json::object();
-    for (std::size_t k = 0; k < nmat; ++k) folded[s.materials()[k].name] = cs.symmetry * tot.folded_mass[k];
+    for (std::size_t k = 0; k < nmat; ++k) folded[rs->materials()[k].name] = cs.symmetry * tot.folded_mass[k];
     sum["fragments"] = {{"fold_below", deck.fragment_fold},
                         {"folded_mass_kg", folded},
                         {"note", "each material's mass given to other materials by folding its fragments, less what it took; "
                                  "totals.materials' mass_kg + folded_mass_kg = the initial mass less the net outflow (outflow.mass_kg)"}};
     // What left through the outflow sides, by material: books too (round-off under MPI, as above).
     nlohmann::json left = nlohmann::json::object();
-    for (std::size_t k = 0; k < nmat; ++k) left[s.materials()[k].name] = -cs.symmetry * tot.boundary_mass[k];
+    for (std::size_t k = 0; k < nmat; ++k) left[rs->materials()[k].name] = -cs.symmetry * tot.boundary_mass[k];
     sum["outflow"] = {{"mass_kg", left},
                       {"note", "each material's net mass out through the domain's outflow sides (and the early-time block's cut "
                                "sides, which nothing reaches by construction); negative: net inflow. The products that left no longer "

@@ -26,8 +26,8 @@ struct RunOptions {
   bool progress = true;            // progress lines on stderr
   bool plot = true;
   std::function<void(const std::string&)> log;
-  // MPI ranks (more than one): every rank builds the case and runs the early time, then steps its
-  // slab of the run mesh (docs/solver.md); each rank writes its pieces of the field snapshots into
+  // MPI ranks (more than one): every rank runs the early time and builds and steps only its slab of
+  // the run mesh (docs/solver.md); each rank writes its pieces of the field snapshots into
   // the run folder (which every rank must see), rank 0 the rest, and the result is the same on
   // every rank, to the last bit of the impulse.
   parallel::Exchange* exchange = nullptr;

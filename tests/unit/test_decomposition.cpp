@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "../common/decomposition_case.hpp"
+#include "hydro/rezone.hpp"
 #include "parallel/exchange.hpp"
 #include "parallel/threads.hpp"
 
@@ -113,6 +114,68 @@ void splitMatchesWhole(int dims, int parts, int steps) {
     EXPECT_EQ(runs[static_cast<std::size_t>(r)].by_parts, ref.by_parts) << "slab " << r;   // the splits too (10 mm cells, layers to 40 mm)
     expectSameCells(whole, *blocks[static_cast<std::size_t>(r)]);
   }
+}
+
+// `ejecta run` on ranks builds each slab as one (no rank holds the whole): the load at rest and the
+// early time's map onto the 3D quarter must then be the whole's to the bit, slab by slab.
+void slabsBuiltAloneMatchTheWhole(int dims, int parts) {
+  const auto whole = makeBlock(wholeGrid(dims));
+  const Vec3 at_rest = whole.bodyLoad();
+  ASSERT_NE(at_rest[dims == 3 ? 2 : 1], 0.0);
+  const auto slabs = parallel::slabs(wholeGrid(dims).cells(0), parts);
+  parallel::ThreadTeam team(parts);
+  std::vector<Vec3> got(static_cast<std::size_t>(parts));
+  std::vector<std::exception_ptr> failed(static_cast<std::size_t>(parts));
+  std::vector<std::thread> threads;
+  for (int r = 0; r < parts; ++r)
+    threads.emplace_back([&, r] {
+      const auto ur = static_cast<std::size_t>(r);
+      try {
+        auto block = makeBlock(wholeGrid(dims).slab(slabs[ur].begin, slabs[ur].end));
+        block.setExchange(&team.member(r));
+        got[ur] = block.wholeBodyLoad();
+      } catch (...) {
+        failed[ur] = std::current_exception();
+      }
+    });
+  for (auto& t : threads) t.join();
+  for (const auto& f : failed)
+    if (f) std::rethrow_exception(f);
+  for (int r = 0; r < parts; ++r)
+    for (std::size_t d = 0; d < 3; ++d) EXPECT_EQ(got[static_cast<std::size_t>(r)][d], at_rest[d]) << "slab " << r << " axis " << d;
+}
+TEST(Decomposition, SlabsBuiltAloneTakeTheWholesLoadAtRest) {
+  slabsBuiltAloneMatchTheWhole(2, 5);
+  slabsBuiltAloneMatchTheWhole(3, 3);
+}
+
+TEST(Decomposition, AnAxisymmetricStateMapsOntoSlabsOfTheQuarterAsOntoTheWhole) {
+  // a charge in sand on an (r, z) block inside the quarter's radius, below its plate, stepped a little
+  hydro::SolverOptions o;
+  for (auto& b : o.boundary) b = {BoundaryKind::Reflect, BoundaryKind::Transmit};
+  o.detonation.push_back({{0.0, -0.04, 0.0}, 0.0});
+  const auto ex = materials::explosive("CompB");
+  hydro::Solver src(mesh::Grid(2, mesh::Geometry::Axisymmetric, {Axis::uniform(0.0, 0.12, 12), Axis::uniform(-0.12, 0.0, 12), Axis{}}),
+                    {materials::air(), ex, materials::sand(materials::SandInputs::fromWetDensity(1370.0, 0.07))}, o);
+  src.paint(0, [](const Vec3&) { return true; }, 1.225, 101325.0 / (0.4 * 1.225));
+  src.paint(2, [](const Vec3& x) { return x[1] < -0.01; }, 1370.0, 0.0);
+  src.paint(1, [](const Vec3& x) { return x[0] < 0.03 && x[1] > -0.06 && x[1] < -0.02; }, ex.jwl.rho0, ex.jwl.e0 / ex.jwl.rho0);
+  for (int n = 0; n < 20; ++n) src.step(src.nextTimeStep(1.0));
+  auto whole = makeBlock(wholeGrid(3));
+  const auto full = hydro::mapAxisymmetricToQuarter(src, whole);
+  const auto slabs = parallel::slabs(wholeGrid(3).cells(0), 3);
+  std::size_t cells = 0;
+  double heat = 0.0;
+  for (const auto& sl : slabs) {
+    auto block = makeBlock(wholeGrid(3).slab(sl.begin, sl.end));
+    const auto part = hydro::mapAxisymmetricToQuarter(src, block);
+    cells += part.target_cells;
+    heat += part.heat_J;
+    expectSameCells(whole, block);
+  }
+  EXPECT_EQ(cells, full.target_cells);
+  EXPECT_NEAR(heat, full.heat_J, 1e-12 * std::abs(full.heat_J) + 1e-300);
+  EXPECT_GT(full.target_cells, 0u);
 }
 
 TEST(Decomposition, SlabsKeepTheWholeGridsGeometryInTheirGhosts) {
