@@ -728,16 +728,22 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   // On ranks rank 0 assembles the whole for the file alone, on a whole built for it and then let go.
   auto writeCheckpoint = [&]() {
     std::optional<Case> whole;
-    if (split && writer) {
-      whole = buildCase(deck);
-      if (cs.plate.present && deck.target.motion == "free" && deck.target.move_mesh)
-        whole->solver->moveMeshWithBody(cs.vertical, deck.mesh.core_bottom_m, deck.mesh.domain_top_m);
-      whole->solver->assemble(*rs, *ex);
-    } else if (split) {
-      hydro::Solver::sendForAssembly(*rs, *ex);
-    }
     std::string failed;
-    if (writer) {
+    if (split && writer) {
+      try {   // (a failure here still takes part in the gather below: the others are in it)
+        whole = buildCase(deck);
+        if (cs.plate.present && deck.target.motion == "free" && deck.target.move_mesh)
+          whole->solver->moveMeshWithBody(cs.vertical, deck.mesh.core_bottom_m, deck.mesh.domain_top_m);
+      } catch (const std::exception& e) {
+        whole.reset();
+        failed = e.what();
+      }
+    }
+    if (whole)
+      whole->solver->assemble(*rs, *ex);
+    else if (split)
+      hydro::Solver::sendForAssembly(*rs, *ex);
+    if (writer && failed.empty()) {
       try {
         std::ostringstream payload;
         (whole ? *whole->solver : *rs).writeCheckpoint(payload);
