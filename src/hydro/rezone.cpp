@@ -113,6 +113,7 @@ void writeSums(Sums& S, Solver& target, RezoneReport& rep) {
         }
         shareHeat(M, m_new, loss, heat, held, add);
         rep.heat_J += heat;
+        rep.heat_by_cell.push_back(heat);
         for (int k = 0; k < M; ++k) {
           auto& F = target.fieldForSetup(k);
           const std::size_t q = tc * uM + static_cast<std::size_t>(k);

@@ -14,6 +14,7 @@
 // weights: each 3D cell's overlap with an (r, z) ring, and the overlap's angular moments to turn
 // the radial momentum and the stress into x and y.
 #include <cstddef>
+#include <vector>
 
 #include "hydro/solver.hpp"
 
@@ -23,6 +24,9 @@ struct RezoneReport {
   std::size_t target_cells = 0;   // target cells that received source cells
   std::size_t source_cells = 0;   // source cells mapped (into a 3D quarter: ring-column pieces times layers)
   double heat_J = 0.0;            // kinetic energy returned as heat (per radian in 2D axisymmetric)
+  // ...each target cell's, in the order of the cells (i, j, k; i slowest): the slabs' lists in rank
+  // order are the whole's, so summing them in turn gives heat_J to the bit
+  std::vector<double> heat_by_cell;
 };
 
 // Maps `source` onto the cells of `target` that it covers. Both solvers must have the same

@@ -384,7 +384,7 @@ static double cellSignalSpeed2(const std::vector<materials::Material>& mats, con
     const auto st = materials::evaluateEos(mats[q], f.rho[c], f.e[c], f.h0[c]);
     double kk = st.bulk;
     if (mats[q].hasStrength()) {
-      kk += 4.0 / 3.0 * materials::shearModulus(mats[q], f.h0[c]);
+      kk += 4.0 / 3.0 * materials::shearModulus(mats[q], f.h0[c], st.pressure);
     }
     kv += f.alpha[c] * kk;
     if (f.alpha[c] * f.rho[c] >= 0.01 * rho_mix) c2 = std::max(c2, kk / f.rho[c]);
@@ -869,7 +869,7 @@ void Solver::updateStress(double dt) {
       auto& f = fields_[q];
       if (!m.hasStrength() || f.alpha[c] <= kAlphaMin) continue;
       const double p = materials::evaluateEos(m, f.rho[c], f.e[c], f.h0[c]).pressure;
-      const double G = materials::shearModulus(m, f.h0[c]), Y = materials::yieldStrength(m, p);
+      const double G = materials::shearModulus(m, f.h0[c], p), Y = materials::yieldStrength(m, p);
       double S[3][3];
       for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b) S[a][b] = f.s[static_cast<std::size_t>(stressIndex(a, b))][c];

@@ -50,6 +50,7 @@ json soilJson(const SandModel& m) {
                  {"quartz_dK_dp", in.quartz.dK_dp},
                  {"quartz_shear_modulus_Pa", in.quartz.shear_modulus},
                  {"shear_modulus_cap_Pa", m.shearModulusCap()},
+                 {"shear_modulus_law", in.shear_follows_pressure ? "pressure" : "compaction"},
                  {"water_eos", {{"name", in.water.name}, {"rho0_kg_m3", in.water.rho0}, {"C_m_s", in.water.c0},
                                 {"S1", in.water.s1}, {"S2", in.water.s2}, {"S3", in.water.s3},
                                 {"gamma0", in.water.gamma0}, {"status", in.water.status}}},
@@ -152,6 +153,7 @@ std::string soilSummaryText(const SandModel& m) {
   out += fmt::format("  initial bulk modulus, unloading {:10.1f} MPa\n", k.initial_unloading_modulus / 1e6);
   out += fmt::format("  initial shear modulus           {:10.1f} MPa\n", k.initial_shear_modulus / 1e6);
   out += fmt::format("  shear modulus cap               {:10.1f} MPa  ({})\n", m.shearModulusCap() / 1e6, in.shear_modulus_cap > 0.0 ? "input" : "quartz's");
+  out += fmt::format("  shear modulus follows           {:>10}  (in the hydrocode)\n", in.shear_follows_pressure ? "pressure" : "compaction");
   out += fmt::format("  lockup pressure                 {:10.1f} MPa\n", k.lockup_pressure / 1e6);
   out += fmt::format("  lockup strain, -ln(V/V0)        {:10.4f}  (density {:.0f} kg/m3)\n", k.lockup_strain,
                      k.lockup_density);

@@ -176,9 +176,10 @@ inline EosState evaluateEosAndHistory(const Material& m, double rho, double e, d
 void evaluateEosAndHistory(const Material& m, std::ptrdiff_t n, const double* alpha, const double* rho, const double* e, double* history,
                            double* pressure, double* bulk) noexcept;
 
-// Shear modulus (Pa) and yield strength (Pa) at pressure p, for materials with strength.
-inline double shearModulus(const Material& m, double h0) noexcept {
-  return m.strength.kind == StrengthKind::VonMises ? m.strength.shear_modulus : (m.sand ? m.sand->shearModulus(h0) : 0.0);
+// Shear modulus (Pa) for the history h0 and the pressure p now, and yield strength (Pa) at pressure
+// p, for materials with strength.
+inline double shearModulus(const Material& m, double h0, double p) noexcept {
+  return m.strength.kind == StrengthKind::VonMises ? m.strength.shear_modulus : (m.sand ? m.sand->shearModulus(h0, p) : 0.0);
 }
 inline double yieldStrength(const Material& m, double p) noexcept {
   if (m.strength.kind == StrengthKind::VonMises) return m.strength.yield;

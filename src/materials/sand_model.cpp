@@ -287,6 +287,11 @@ SandPointEos::SandPointEos(const SandModel& model, int table_size) {
     k_unload_[i] = model.unloadingModulus(p);
     g_[i] = model.shearModulus(p);
   }
+  follow_pressure_ = model.inputs().shear_follows_pressure;
+  gp_.resize(n);
+  const double u_top = std::log1p(ps[m] * kInvShearPressureScale);
+  inv_du_ = (n - 1) / u_top;
+  for (int i = 0; i < n; ++i) gp_[i] = model.shearModulus(std::expm1(i / inv_du_) / kInvShearPressureScale);
 }
 
 }  // namespace ejecta::materials

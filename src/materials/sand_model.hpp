@@ -52,6 +52,12 @@ struct SandInputs {
   // bound). Compacted and crushed sand is not intact quartz: where it lies between is not measured,
   // so it is an input with a sensitivity (docs/sand-model.md).
   double shear_modulus_cap = 0.0;   // Pa
+  // What the skeleton's shear modulus follows (docs/sand-model.md, Shear modulus): the largest
+  // compaction the sand has seen (false: G stays where the loading took it, after unloading too, as
+  // a solid aggregate would), or the present effective pressure (true: G as on the loading curve at
+  // the pressure now, so unloaded sand, and a dust of it in the products, is as soft as sand at that
+  // pressure, as a granular skeleton's modulus follows its confinement).
+  bool shear_follows_pressure = false;
   // Porosity at most this: looser than any sand packing (random loose packing of spheres is about
   // 0.45, the loosest natural sands about 0.55). The model's bounding-case checks (a pure water
   // column, porosity -> 1) raise it to 1.
@@ -198,7 +204,17 @@ class SandPointEos {
     return r;
   }
 
-  double shearModulus(double x_max) const noexcept {
+  // The skeleton's shear modulus for the largest natural strain reached and the pressure now (Pa,
+  // pore pressure included): by the law of SandInputs::shear_follows_pressure.
+  double shearModulus(double x_max, double p) const noexcept {
+    if (follow_pressure_) {
+      const double pe = p - pore_p_;
+      double s = std::log1p((pe > 0.0 ? pe : 0.0) * kInvShearPressureScale) * inv_du_;
+      int i = static_cast<int>(s);
+      i = i > last_ ? last_ : i;
+      const double t = s - i;
+      return gp_[i] + (t > 1.0 ? 1.0 : t) * (gp_[i + 1] - gp_[i]);
+    }
     double s = x_max * inv_dx_;
     s = s < 0.0 ? 0.0 : s;
     int i = static_cast<int>(s);
@@ -233,6 +249,11 @@ class SandPointEos {
   }
 
   std::vector<double> p_, k_load_, k_unload_, g_;
+  // the shear modulus by effective pressure, on u = ln(1 + p / 1 MPa) uniform (to the curve's top)
+  static constexpr double kInvShearPressureScale = 1e-6;   // 1/Pa
+  std::vector<double> gp_;
+  double inv_du_ = 1.0;
+  bool follow_pressure_ = false;
   double dx_, inv_dx_, rho0_, p_cut_;
   double pore_p_ = 0.0;   // Pa, SandInputs::pore_pressure
   double gamma_ = 0.0, x_lock_ = 1.0;   // energy term (SandModel::thermalGamma, thermalFactor)

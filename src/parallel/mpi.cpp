@@ -66,12 +66,25 @@ std::vector<double> MpiExchange::gatherToFirst(const std::vector<double>& mine) 
   const int n = count(mine.size());
   std::vector<int> counts(rank_ == 0 ? static_cast<std::size_t>(size_) : 0), offsets(counts.size(), 0);
   check(MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm_), "MPI_Gather");
-  std::size_t total = 0;
-  for (std::size_t r = 0; r < counts.size(); ++r) {
-    offsets[r] = count(total);
-    total += static_cast<std::size_t>(counts[r]);
+  // Rank 0 alone sizes and allocates the whole: every rank learns whether it could before any data
+  // moves, so that all fail together (no rank left waiting in the gather).
+  std::vector<double> all;
+  int ok = 1;
+  if (rank_ == 0) {
+    try {
+      std::size_t total = 0;
+      for (std::size_t r = 0; r < counts.size(); ++r) {
+        offsets[r] = count(total);
+        total += static_cast<std::size_t>(counts[r]);
+      }
+      (void)count(total);
+      all.resize(total);
+    } catch (const std::exception&) {
+      ok = 0;
+    }
   }
-  std::vector<double> all(total);
+  check(MPI_Bcast(&ok, 1, MPI_INT, 0, comm_), "MPI_Bcast");
+  if (!ok) throw RunError("MPI: rank 0 cannot hold what the ranks gather (memory, or more than 2^31 values)");
   check(MPI_Gatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, 0, comm_), "MPI_Gatherv");
   return all;
 }

@@ -49,7 +49,7 @@ parallel::Slab rankSlab(const mesh::Grid& whole, int rank, int ranks) {
   return parallel::slabs(whole.cells(0), ranks)[static_cast<std::size_t>(rank)];
 }
 
-Case buildCase(const Deck& deck, const FineBlock* block, const RankPart* part) {
+Case buildCase(const Deck& deck, const FineBlock* block, const RankPart* part, bool paint) {
   const auto& m = deck.mesh;
   const double h = m.cell_size_m;
   const mesh::Axis r_axis = block ? mesh::Axis::uniform(0.0, block->r_max_m, block->run_cells_r * block->ratio)
@@ -113,30 +113,32 @@ Case buildCase(const Deck& deck, const FineBlock* block, const RankPart* part) {
   // shapes see (radius from the vertical axis, height) whatever the mesh
   auto rz = [three_d](const hydro::Vec3& x) { return three_d ? std::array<double, 2>{std::hypot(x[0], x[1]), x[2]} : std::array<double, 2>{x[0], x[1]}; };
 
-  const double e_air = deck.air_pressure_pa / (0.4 * deck.air_density_kg_m3);
-  s.paint(0, [](const hydro::Vec3&) { return true; }, deck.air_density_kg_m3, e_air);
-  for (std::size_t i = 0; i < deck.soil.size(); ++i) {
-    const auto& l = deck.soil[i];
-    const int k = static_cast<int>(2 + i);
-    s.paint(k, [&l, &rz](const hydro::Vec3& x) { const auto p = rz(x); return p[1] < l.top_m && p[1] >= l.bottom_m && (l.radius_m <= 0.0 || p[0] < l.radius_m); },
-            mats[static_cast<std::size_t>(k)].referenceDensity(), 0.0, {}, 4, hydro::Solver::Over::background);
-  }
-  const auto& ch = cs.charge;
-  if (backfill_mat >= 0) {
-    const double rb = deck.backfill.radius_m > 0.0 ? deck.backfill.radius_m : ch.radius_m + 0.05;
-    s.paint(backfill_mat, [&](const hydro::Vec3& x) { const auto p = rz(x); return p[0] < rb && p[1] < 0.0 && p[1] >= ch.z_top_m; },
-            mats[static_cast<std::size_t>(backfill_mat)].referenceDensity(), 0.0);
-  }
-  const auto& ex = mats[1].jwl;
-  if (deck.charge.shape == "sphere") {
-    const double zc = 0.5 * (ch.z_top_m + ch.z_bottom_m);
-    s.paint(1, [&](const hydro::Vec3& x) { const auto p = rz(x); return std::hypot(p[0], p[1] - zc) < ch.radius_m; }, ex.rho0, ex.e0 / ex.rho0, {}, 8);
-  } else if (deck.charge.shape == "box") {
-    s.paint(1, [&](const hydro::Vec3& x) { return std::abs(x[0]) < ch.radius_m && std::abs(x[1]) < ch.radius_m && x[2] < ch.z_top_m && x[2] >= ch.z_bottom_m; },
-            ex.rho0, ex.e0 / ex.rho0, {}, 4);
-  } else {
-    s.paint(1, [&](const hydro::Vec3& x) { const auto p = rz(x); return p[0] < ch.radius_m && p[1] < ch.z_top_m && p[1] >= ch.z_bottom_m; }, ex.rho0,
-            ex.e0 / ex.rho0, {}, three_d ? 4 : 8);
+  if (paint) {   // the air, the soil layers, the backfill, the charge
+    const double e_air = deck.air_pressure_pa / (0.4 * deck.air_density_kg_m3);
+    s.paint(0, [](const hydro::Vec3&) { return true; }, deck.air_density_kg_m3, e_air);
+    for (std::size_t i = 0; i < deck.soil.size(); ++i) {
+      const auto& l = deck.soil[i];
+      const int k = static_cast<int>(2 + i);
+      s.paint(k, [&l, &rz](const hydro::Vec3& x) { const auto p = rz(x); return p[1] < l.top_m && p[1] >= l.bottom_m && (l.radius_m <= 0.0 || p[0] < l.radius_m); },
+              mats[static_cast<std::size_t>(k)].referenceDensity(), 0.0, {}, 4, hydro::Solver::Over::background);
+    }
+    const auto& ch = cs.charge;
+    if (backfill_mat >= 0) {
+      const double rb = deck.backfill.radius_m > 0.0 ? deck.backfill.radius_m : ch.radius_m + 0.05;
+      s.paint(backfill_mat, [&](const hydro::Vec3& x) { const auto p = rz(x); return p[0] < rb && p[1] < 0.0 && p[1] >= ch.z_top_m; },
+              mats[static_cast<std::size_t>(backfill_mat)].referenceDensity(), 0.0);
+    }
+    const auto& ex = mats[1].jwl;
+    if (deck.charge.shape == "sphere") {
+      const double zc = 0.5 * (ch.z_top_m + ch.z_bottom_m);
+      s.paint(1, [&](const hydro::Vec3& x) { const auto p = rz(x); return std::hypot(p[0], p[1] - zc) < ch.radius_m; }, ex.rho0, ex.e0 / ex.rho0, {}, 8);
+    } else if (deck.charge.shape == "box") {
+      s.paint(1, [&](const hydro::Vec3& x) { return std::abs(x[0]) < ch.radius_m && std::abs(x[1]) < ch.radius_m && x[2] < ch.z_top_m && x[2] >= ch.z_bottom_m; },
+              ex.rho0, ex.e0 / ex.rho0, {}, 4);
+    } else {
+      s.paint(1, [&](const hydro::Vec3& x) { const auto p = rz(x); return p[0] < ch.radius_m && p[1] < ch.z_top_m && p[1] >= ch.z_bottom_m; }, ex.rho0,
+              ex.e0 / ex.rho0, {}, three_d ? 4 : 8);
+    }
   }
   const auto& t = deck.target;
   if (t.kind != "none") {

@@ -59,7 +59,8 @@ parallel::Slab rankSlab(const mesh::Grid& whole, int rank, int ranks);
 struct RankPart {
   int rank = 0, ranks = 1;
 };
-Case buildCase(const Deck& deck, const FineBlock* block = nullptr, const RankPart* part = nullptr);
+// `paint` false: the materials' cells are left empty (a whole that slabs are assembled into).
+Case buildCase(const Deck& deck, const FineBlock* block = nullptr, const RankPart* part = nullptr, bool paint = true);
 ChargeGeometry chargeGeometry(const ChargeSpec& c);
 
 }  // namespace ejecta::scenario

@@ -116,6 +116,9 @@ std::vector<Key> makeKeys() {
              "the energy term's Gruneisen coefficient, p = C(x) + gamma T(x) rho0 e; -1: derived from the constituents (docs/solver.md)", -1.0),
       number("soil", "shear_modulus_cap_pa", layer<&SoilSpec::shear_modulus_cap_pa>, "Pa", kShearModulusCapRange,
              "the cap on the skeleton's shear modulus, which grows with the compaction seen; 0: the quartz grains' own, 45 GPa (docs/sand-model.md)", 0.0),
+      text("soil", "shear_modulus_law", layer<&SoilSpec::shear_modulus_law>, {"compaction", "pressure"},
+           "what the skeleton's shear modulus follows: the largest compaction seen (it stays after unloading) or the effective pressure now "
+           "(docs/sand-model.md)"),
 
       flag("backfill", "enabled", in<&Deck::backfill, &BackfillSpec::enabled>,
            "a dug-and-backfilled cover over the charge, from the surface to the charge top (soil options of the first layer)"),
@@ -532,6 +535,7 @@ materials::SandInputs sandInputsOf(const SoilSpec& s) {
   in.plateau.scale = s.plateau_scale;
   in.thermal_gamma = s.thermal_gamma;
   in.shear_modulus_cap = s.shear_modulus_cap_pa;
+  in.shear_follows_pressure = s.shear_modulus_law == "pressure";
   return in;
 }
 

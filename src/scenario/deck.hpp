@@ -33,6 +33,7 @@ struct SoilSpec {
   double plateau_scale = 1.0;
   double thermal_gamma = -1.0;        // - the energy term's Gruneisen coefficient; < 0: from the constituents
   double shear_modulus_cap_pa = 0.0;  // Pa, the cap on the skeleton's shear modulus; 0: quartz's
+  std::string shear_modulus_law = "compaction";   // what G follows: "compaction" (the largest seen) or "pressure" (now)
 };
 
 struct ChargeSpec {

@@ -666,15 +666,26 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     for (const auto& w : early_warnings) say("early time: warning: " + w);
     // (on ranks each maps onto its own slab; the fine block's books go to rank 0's, as a slab cut
     // from the whole keeps them on the slab holding cell 0)
-    auto rz = onto_3d ? hydro::mapAxisymmetricToQuarter(fs_, *rs) : hydro::mapNested(fs_, *rs);
+    // A map that fails on one slab (a cell it cannot cover) stops every rank, said once.
+    hydro::RezoneReport rz;
+    std::string map_failed;
+    try {
+      rz = onto_3d ? hydro::mapAxisymmetricToQuarter(fs_, *rs) : hydro::mapNested(fs_, *rs);
+    } catch (const InputError& e) {
+      if (!split) throw;
+      map_failed = fmt::format("rank {}: {}", ex->rank(), e.what());
+    }
     if (split) {
-      const auto all = ex->gatherAll({static_cast<double>(rz.source_cells), static_cast<double>(rz.target_cells), rz.heat_J});
+      if (const std::string all = parallel::gatherText(*ex, map_failed); !all.empty()) throw InputError("rezone", all);
+      // the counts summed; the heat summed cell by cell in the whole's order (one process's number)
+      const auto counts = ex->gatherAll({static_cast<double>(rz.source_cells), static_cast<double>(rz.target_cells)});
+      const auto heats = ex->gatherAll(rz.heat_by_cell);
       rz = {};
-      for (std::size_t r = 0; r + 3 <= all.size(); r += 3) {
-        rz.source_cells += static_cast<std::size_t>(all[r]);
-        rz.target_cells += static_cast<std::size_t>(all[r + 1]);
-        rz.heat_J += all[r + 2];
+      for (std::size_t r = 0; r + 2 <= counts.size(); r += 2) {
+        rz.source_cells += static_cast<std::size_t>(counts[r]);
+        rz.target_cells += static_cast<std::size_t>(counts[r + 1]);
       }
+      for (const double h : heats) rz.heat_J += h;
     }
     const auto& led = fs_.energyLedger();
     rs->startAt(fs_.time(), !split || ex->rank() == 0 ? led.scaled(to_run) : hydro::EnergyLedger{});
@@ -731,7 +742,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     std::string failed;
     if (split && writer) {
       try {   // (a failure here still takes part in the gather below: the others are in it)
-        whole = buildCase(deck);
+        whole = buildCase(deck, nullptr, nullptr, false);   // the cells come from the slabs: not painted
         if (cs.plate.present && deck.target.motion == "free" && deck.target.move_mesh)
           whole->solver->moveMeshWithBody(cs.vertical, deck.mesh.core_bottom_m, deck.mesh.domain_top_m);
       } catch (const std::exception& e) {
@@ -739,10 +750,15 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
         failed = e.what();
       }
     }
-    if (whole)
-      whole->solver->assemble(*rs, *ex);
-    else if (split)
-      hydro::Solver::sendForAssembly(*rs, *ex);
+    try {   // (every rank is in the gather; one that fails says why below, with the others)
+      if (whole)
+        whole->solver->assemble(*rs, *ex);
+      else if (split)
+        hydro::Solver::sendForAssembly(*rs, *ex);
+    } catch (const std::exception& e) {
+      whole.reset();
+      if (failed.empty()) failed = e.what();
+    }
     if (writer && failed.empty()) {
       try {
         std::ostringstream payload;

@@ -149,18 +149,24 @@ TEST(Decomposition, SlabsBuiltAloneTakeTheWholesLoadAtRest) {
   slabsBuiltAloneMatchTheWhole(3, 3);
 }
 
-TEST(Decomposition, AnAxisymmetricStateMapsOntoSlabsOfTheQuarterAsOntoTheWhole) {
-  // a charge in sand on an (r, z) block inside the quarter's radius, below its plate, stepped a little
+// A charge in sand on an (r, z) block of `nr` x `nz` cells over r < 0.12 m, -0.12 < z < 0 m (inside
+// the test case's meshes, below its plate), stepped a little: an early time to map.
+hydro::Solver earlyBlock(int nr, int nz) {
   hydro::SolverOptions o;
   for (auto& b : o.boundary) b = {BoundaryKind::Reflect, BoundaryKind::Transmit};
   o.detonation.push_back({{0.0, -0.04, 0.0}, 0.0});
   const auto ex = materials::explosive("CompB");
-  hydro::Solver src(mesh::Grid(2, mesh::Geometry::Axisymmetric, {Axis::uniform(0.0, 0.12, 12), Axis::uniform(-0.12, 0.0, 12), Axis{}}),
+  hydro::Solver src(mesh::Grid(2, mesh::Geometry::Axisymmetric, {Axis::uniform(0.0, 0.12, nr), Axis::uniform(-0.12, 0.0, nz), Axis{}}),
                     {materials::air(), ex, materials::sand(materials::SandInputs::fromWetDensity(1370.0, 0.07))}, o);
   src.paint(0, [](const Vec3&) { return true; }, 1.225, 101325.0 / (0.4 * 1.225));
   src.paint(2, [](const Vec3& x) { return x[1] < -0.01; }, 1370.0, 0.0);
   src.paint(1, [](const Vec3& x) { return x[0] < 0.03 && x[1] > -0.06 && x[1] < -0.02; }, ex.jwl.rho0, ex.jwl.e0 / ex.jwl.rho0);
   for (int n = 0; n < 20; ++n) src.step(src.nextTimeStep(1.0));
+  return src;
+}
+
+TEST(Decomposition, AnAxisymmetricStateMapsOntoSlabsOfTheQuarterAsOntoTheWhole) {
+  const auto src = earlyBlock(12, 12);
   auto whole = makeBlock(wholeGrid(3));
   const auto full = hydro::mapAxisymmetricToQuarter(src, whole);
   const auto slabs = parallel::slabs(wholeGrid(3).cells(0), 3);
@@ -170,12 +176,75 @@ TEST(Decomposition, AnAxisymmetricStateMapsOntoSlabsOfTheQuarterAsOntoTheWhole) 
     auto block = makeBlock(wholeGrid(3).slab(sl.begin, sl.end));
     const auto part = hydro::mapAxisymmetricToQuarter(src, block);
     cells += part.target_cells;
-    heat += part.heat_J;
+    for (const double h : part.heat_by_cell) heat += h;   // in the whole's order: its sum to the bit
     expectSameCells(whole, block);
   }
   EXPECT_EQ(cells, full.target_cells);
-  EXPECT_NEAR(heat, full.heat_J, 1e-12 * std::abs(full.heat_J) + 1e-300);
+  EXPECT_EQ(heat, full.heat_J);
   EXPECT_GT(full.target_cells, 0u);
+  EXPECT_GT(full.heat_J, 0.0);
+}
+
+// The same for the nested map of a 2D run (the fine block spans slabs: 12 of the 36 run columns, 5 slabs).
+TEST(Decomposition, ANestedStateMapsOntoSlabsAsOntoTheWhole) {
+  const auto src = earlyBlock(24, 16);   // 2 x 2 fine cells per run cell (10 x 15 mm)
+  auto whole = makeBlock(wholeGrid(2));
+  const auto full = hydro::mapNested(src, whole);
+  ASSERT_EQ(full.target_cells, 12u * 8u);
+  std::size_t cells = 0;
+  double heat = 0.0;
+  int slabs_mapped = 0;
+  for (const auto& sl : parallel::slabs(wholeGrid(2).cells(0), 5)) {
+    auto block = makeBlock(wholeGrid(2).slab(sl.begin, sl.end));
+    const auto part = hydro::mapNested(src, block);
+    cells += part.target_cells;
+    slabs_mapped += part.target_cells > 0 ? 1 : 0;
+    for (const double h : part.heat_by_cell) heat += h;
+    expectSameCells(whole, block);
+  }
+  EXPECT_EQ(slabs_mapped, 2);
+  EXPECT_EQ(cells, full.target_cells);
+  EXPECT_EQ(heat, full.heat_J);
+}
+
+// Slabs built as slabs and stepped, gathered into a whole on the first block alone (a checkpoint on
+// MPI ranks): every cell and the clock of the whole stepped alike.
+TEST(Decomposition, SlabsAssembleIntoAWholeOnTheFirstBlock) {
+#ifdef _OPENMP
+  omp_set_num_threads(1);
+#endif
+  const int parts = 3, steps = 40;
+  auto whole = makeBlock(wholeGrid(2));
+  (void)advance(whole, steps);
+  const auto slabs = parallel::slabs(wholeGrid(2).cells(0), parts);
+  parallel::ThreadTeam team(parts);
+  auto assembled = makeBlock(wholeGrid(2));   // painted at the start: every cell is overwritten
+  std::vector<std::exception_ptr> failed(static_cast<std::size_t>(parts));
+  std::vector<std::thread> threads;
+  for (int r = 0; r < parts; ++r)
+    threads.emplace_back([&, r] {
+      const auto ur = static_cast<std::size_t>(r);
+      try {
+#ifdef _OPENMP
+        omp_set_num_threads(1);
+#endif
+        auto block = makeBlock(wholeGrid(2).slab(slabs[ur].begin, slabs[ur].end));
+        block.setExchange(&team.member(r));
+        (void)advance(block, steps);
+        if (r == 0)
+          assembled.assemble(block, team.member(r));
+        else
+          hydro::Solver::sendForAssembly(block, team.member(r));
+      } catch (...) {
+        failed[ur] = std::current_exception();
+      }
+    });
+  for (auto& t : threads) t.join();
+  for (const auto& f : failed)
+    if (f) std::rethrow_exception(f);
+  EXPECT_EQ(assembled.time(), whole.time());
+  expectSameCells(whole, assembled);
+  EXPECT_NEAR(assembled.totals().total(), whole.totals().total(), 1e-14 * whole.totals().total());
 }
 
 TEST(Decomposition, SlabsKeepTheWholeGridsGeometryInTheirGhosts) {

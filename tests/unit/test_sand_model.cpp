@@ -223,6 +223,32 @@ TEST(SandPointEos, UnloadsElasticallyAndReloadsOnTheSamePath) {
   EXPECT_DOUBLE_EQ(eos.evaluate(-0.5, 0.0).pressure, m.inputs().tension_cutoff);
 }
 
+// The two laws of the hydrocode's shear modulus: by the compaction seen, G stays where the loading
+// took it after the sand unloads; by the pressure now, unloaded sand is as soft as sand at that
+// pressure on the loading curve (the pore air's pressure carries no shear), and on the loading
+// curve itself the two agree.
+TEST(SandPointEos, ShearModulusFollowsTheCompactionSeenOrThePressureNow) {
+  SandInputs in = SandInputs::fromWetDensity(1370.0, 0.07);
+  in.pore_pressure = 101325.0;
+  const SandModel by_compaction(in);
+  in.shear_follows_pressure = true;
+  const SandModel by_pressure(in);
+  const SandPointEos c(by_compaction), p(by_pressure);
+  const double x_max = 0.3, p_top = by_compaction.pressureAtNaturalStrain(x_max) + in.pore_pressure;
+  const double g_top = by_compaction.shearModulus(p_top - in.pore_pressure);
+  EXPECT_NEAR(c.shearModulus(x_max, p_top), g_top, 0.02 * g_top);
+  EXPECT_NEAR(p.shearModulus(x_max, p_top), g_top, 0.02 * g_top);   // loading: the same
+  const double g0 = by_compaction.shearModulus(0.0);
+  EXPECT_GT(g_top, 100.0 * g0);   // the loading took it far up: the test tells the laws apart
+  EXPECT_NEAR(c.shearModulus(x_max, in.pore_pressure), c.shearModulus(x_max, p_top), 1e-12 * g_top);   // stays
+  EXPECT_NEAR(p.shearModulus(x_max, in.pore_pressure), g0, 1e-6 * g0);   // back at the laid sand's
+  EXPECT_NEAR(p.shearModulus(x_max, -1e5), g0, 1e-6 * g0);               // tension: no softer
+  for (const double pe : {1e5, 3e6, 1e8, 2e9}) {
+    const double g = by_compaction.shearModulus(pe);
+    EXPECT_NEAR(p.shearModulus(x_max, pe + in.pore_pressure), g, 0.01 * g) << pe;
+  }
+}
+
 TEST(SharedData, EmbeddedSjoboTableMatchesSharedCsv) {
   std::ifstream f(std::string(EJECTA_SHARED_DATA_DIR) + "/sjobo_sand_compaction.csv");
   if (!f) GTEST_SKIP() << "shared/data not beside the project";
