@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <exception>
+#include <functional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -53,6 +54,28 @@ void expectSameCells(const hydro::Solver& whole, const hydro::Solver& slab) {
   ASSERT_EQ(whole.grid().axis(up).faces(), g.axis(up).faces());   // the moved mesh too
 }
 
+// Runs `body(r, exchange)` for each of `parts` blocks on a thread of its own (one OpenMP thread
+// each), joined by the in-process transport; rethrows the first failure.
+void onEachBlock(int parts, const std::function<void(int, parallel::Exchange&)>& body) {
+  parallel::ThreadTeam team(parts);
+  std::vector<std::exception_ptr> failed(static_cast<std::size_t>(parts));
+  std::vector<std::thread> threads;
+  for (int r = 0; r < parts; ++r)
+    threads.emplace_back([&, r] {
+      try {
+#ifdef _OPENMP
+        omp_set_num_threads(1);
+#endif
+        body(r, team.member(r));
+      } catch (...) {
+        failed[static_cast<std::size_t>(r)] = std::current_exception();
+      }
+    });
+  for (auto& t : threads) t.join();
+  for (const auto& f : failed)
+    if (f) std::rethrow_exception(f);
+}
+
 void splitMatchesWhole(int dims, int parts, int steps) {
 #ifdef _OPENMP
   omp_set_num_threads(1);
@@ -60,28 +83,14 @@ void splitMatchesWhole(int dims, int parts, int steps) {
   auto whole = makeBlock(wholeGrid(dims));
   const auto ref = advance(whole, steps);
   const auto slabs = parallel::slabs(wholeGrid(dims).cells(0), parts);
-  parallel::ThreadTeam team(parts);
   std::vector<std::unique_ptr<hydro::Solver>> blocks(static_cast<std::size_t>(parts));
   std::vector<Run> runs(static_cast<std::size_t>(parts));
-  std::vector<std::exception_ptr> failed(static_cast<std::size_t>(parts));
-  std::vector<std::thread> threads;
-  for (int r = 0; r < parts; ++r)
-    threads.emplace_back([&, r] {
-      const auto ur = static_cast<std::size_t>(r);
-      try {
-#ifdef _OPENMP
-        omp_set_num_threads(1);
-#endif
-        blocks[ur] = std::make_unique<hydro::Solver>(makeBlock(wholeGrid(dims).slab(slabs[ur].begin, slabs[ur].end)));
-        blocks[ur]->setExchange(&team.member(r));
-        runs[ur] = advance(*blocks[ur], steps);
-      } catch (...) {
-        failed[ur] = std::current_exception();
-      }
-    });
-  for (auto& t : threads) t.join();
-  for (const auto& f : failed)
-    if (f) std::rethrow_exception(f);
+  onEachBlock(parts, [&](int r, parallel::Exchange& ex) {
+    const auto ur = static_cast<std::size_t>(r);
+    blocks[ur] = std::make_unique<hydro::Solver>(makeBlock(wholeGrid(dims).slab(slabs[ur].begin, slabs[ur].end)));
+    blocks[ur]->setExchange(&ex);
+    runs[ur] = advance(*blocks[ur], steps);
+  });
   double sum = 0.0;
   for (const double i : ref.impulse) sum += symmetry(whole) * i;
   ASSERT_GT(sum, 10.0);   // N s: the blast has reached the plate, so the test books a real load
@@ -123,24 +132,13 @@ void slabsBuiltAloneMatchTheWhole(int dims, int parts) {
   const Vec3 at_rest = whole.bodyLoad();
   ASSERT_NE(at_rest[dims == 3 ? 2 : 1], 0.0);
   const auto slabs = parallel::slabs(wholeGrid(dims).cells(0), parts);
-  parallel::ThreadTeam team(parts);
   std::vector<Vec3> got(static_cast<std::size_t>(parts));
-  std::vector<std::exception_ptr> failed(static_cast<std::size_t>(parts));
-  std::vector<std::thread> threads;
-  for (int r = 0; r < parts; ++r)
-    threads.emplace_back([&, r] {
-      const auto ur = static_cast<std::size_t>(r);
-      try {
-        auto block = makeBlock(wholeGrid(dims).slab(slabs[ur].begin, slabs[ur].end));
-        block.setExchange(&team.member(r));
-        got[ur] = block.wholeBodyLoad();
-      } catch (...) {
-        failed[ur] = std::current_exception();
-      }
-    });
-  for (auto& t : threads) t.join();
-  for (const auto& f : failed)
-    if (f) std::rethrow_exception(f);
+  onEachBlock(parts, [&](int r, parallel::Exchange& ex) {
+    const auto ur = static_cast<std::size_t>(r);
+    auto block = makeBlock(wholeGrid(dims).slab(slabs[ur].begin, slabs[ur].end));
+    block.setExchange(&ex);
+    got[ur] = block.wholeBodyLoad();
+  });
   for (int r = 0; r < parts; ++r)
     for (std::size_t d = 0; d < 3; ++d) EXPECT_EQ(got[static_cast<std::size_t>(r)][d], at_rest[d]) << "slab " << r << " axis " << d;
 }
@@ -217,31 +215,17 @@ TEST(Decomposition, SlabsAssembleIntoAWholeOnTheFirstBlock) {
   auto whole = makeBlock(wholeGrid(2));
   (void)advance(whole, steps);
   const auto slabs = parallel::slabs(wholeGrid(2).cells(0), parts);
-  parallel::ThreadTeam team(parts);
   auto assembled = makeBlock(wholeGrid(2));   // painted at the start: every cell is overwritten
-  std::vector<std::exception_ptr> failed(static_cast<std::size_t>(parts));
-  std::vector<std::thread> threads;
-  for (int r = 0; r < parts; ++r)
-    threads.emplace_back([&, r] {
-      const auto ur = static_cast<std::size_t>(r);
-      try {
-#ifdef _OPENMP
-        omp_set_num_threads(1);
-#endif
-        auto block = makeBlock(wholeGrid(2).slab(slabs[ur].begin, slabs[ur].end));
-        block.setExchange(&team.member(r));
-        (void)advance(block, steps);
-        if (r == 0)
-          assembled.assemble(block, team.member(r));
-        else
-          hydro::Solver::sendForAssembly(block, team.member(r));
-      } catch (...) {
-        failed[ur] = std::current_exception();
-      }
-    });
-  for (auto& t : threads) t.join();
-  for (const auto& f : failed)
-    if (f) std::rethrow_exception(f);
+  onEachBlock(parts, [&](int r, parallel::Exchange& ex) {
+    const auto ur = static_cast<std::size_t>(r);
+    auto block = makeBlock(wholeGrid(2).slab(slabs[ur].begin, slabs[ur].end));
+    block.setExchange(&ex);
+    (void)advance(block, steps);
+    if (r == 0)
+      assembled.assemble(block, ex);
+    else
+      hydro::Solver::sendForAssembly(block, ex);
+  });
   EXPECT_EQ(assembled.time(), whole.time());
   expectSameCells(whole, assembled);
   EXPECT_NEAR(assembled.totals().total(), whole.totals().total(), 1e-14 * whole.totals().total());
