@@ -20,6 +20,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <sys/resource.h>
 #include <sys/types.h>
 #include <unistd.h>
 #include <nlohmann/json.hpp>
@@ -845,6 +846,12 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_wall0).count();
   const auto end_totals = totalsNow();   // the end state of the whole, for the books and the summary
+  // Each rank's peak resident memory over the run, MB (the operating system's count; on ranks, in
+  // rank order; gathered here, before rank 0 alone writes the folder).
+  struct rusage usage {};
+  getrusage(RUSAGE_SELF, &usage);
+  const double peak_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;   // (Linux counts KiB)
+  const std::vector<double> peaks = ex ? ex->gatherAll({peak_mb}) : std::vector<double>{peak_mb};
 
   RunResult res;
   res.impulse_Ns = ts.impulse;
@@ -986,6 +993,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
                 {"solver_revision", hydro::kSolverRevision},
                 {"ranks", opt.exchange ? opt.exchange->size() : 1},
                 {"threads", threadCount()},
+                {"peak_memory_mb_by_rank", peaks},
                 {"restarted_from", opt.restart},
                 {"wall_seconds_before_restart", st.wall_before_s}};
   if (writer) io::writeFileAtomically(out / "summary.json", sum.dump(2) + "\n");
