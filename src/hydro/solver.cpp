@@ -666,32 +666,33 @@ std::vector<double> Solver::packForAssembly(const Solver& mine) {
   return out;
 }
 
-void Solver::sendForAssembly(const Solver& mine, parallel::Exchange& ex) { (void)ex.gatherToFirst(packForAssembly(mine)); }
+void Solver::sendForAssembly(const Solver& mine, parallel::Exchange& ex) {
+  ex.gatherToFirstEach(packForAssembly(mine), [](const std::vector<double>&) {});
+}
 
 void Solver::assemble(const Solver& mine, parallel::Exchange& ex) {
   if (ex.rank() != 0 || grid_.isSlab()) throw RunError("the slabs are assembled into a whole solver on rank 0");
   const auto& g = mine.grid_;
   const int j_lo = -g.ghost(1), j_hi = g.cells(1) + g.ghost(1), k_lo = -g.ghost(2), k_hi = g.cells(2) + g.ghost(2);
   const std::size_t nm = mats_.size();
-  const auto all = ex.gatherToFirst(packForAssembly(mine));
   energy_ = EnergyLedger{};
   double updates = 0.0;
-  std::size_t at = 0;
-  for (int r = 0; r < ex.size(); ++r) {
-    const int first = static_cast<int>(all.at(at)), last = static_cast<int>(all.at(at + 1));
-    energy_.boundary_in += all.at(at + 2);
-    energy_.target_work += all.at(at + 3);
-    energy_.gravity_work += all.at(at + 4);
-    updates += all.at(at + 5);
+  // each slab as it arrives, in rank order (the books summed in that order)
+  ex.gatherToFirstEach(packForAssembly(mine), [&](const std::vector<double>& part) {
+    const int first = static_cast<int>(part.at(0)), last = static_cast<int>(part.at(1));
+    energy_.boundary_in += part.at(2);
+    energy_.target_work += part.at(3);
+    energy_.gravity_work += part.at(4);
+    updates += part.at(5);
     for (std::size_t k = 0; k < nm; ++k) {
-      energy_.folded_mass[k] += all.at(at + 6 + k);
-      energy_.boundary_mass[k] += all.at(at + 6 + nm + k);
+      energy_.folded_mass[k] += part.at(6 + k);
+      energy_.boundary_mass[k] += part.at(6 + nm + k);
     }
-    at += 6 + 2 * nm;
+    std::size_t at = 6 + 2 * nm;
     for (int i = first; i < last; ++i)
       for (int j = j_lo; j < j_hi; ++j)
-        for (int k = k_lo; k < k_hi; ++k) at = unpackCell(grid_.index(i, j, k), all, at);
-  }
+        for (int k = k_lo; k < k_hi; ++k) at = unpackCell(grid_.index(i, j, k), part, at);
+  });
   // the clock, the controller, the body and its mesh: the same on every slab
   time_ = mine.time_;
   last_dt_ = mine.last_dt_;

@@ -212,8 +212,9 @@ class Solver {
   Solver slab(int begin, int end) const;
   // This whole solver, on rank 0, takes the state the slabs of `ex` hold now, `mine` being rank 0's:
   // every cell (for a checkpoint), the clock and the mesh, and the energy books summed over the
-  // slabs. The other ranks call sendForAssembly with theirs at the same time (rank 0 too where it
-  // has no whole to assemble into: what reaches it is dropped); only rank 0 holds the whole.
+  // slabs, taken one slab at a time (Exchange::gatherToFirstEach). The other ranks call
+  // sendForAssembly with theirs at the same time (rank 0 too where it has no whole to assemble into:
+  // what reaches it is dropped); only rank 0 holds the whole.
   void assemble(const Solver& mine, parallel::Exchange& ex);
   static void sendForAssembly(const Solver& mine, parallel::Exchange& ex);
 

@@ -4,6 +4,7 @@
 // the ghost layers of its two neighbours, the smallest time step, and everyone's small lists in
 // rank order. The solver calls only this interface; the transport (MPI, threads) lives behind it,
 // so that the kernels never see MPI.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -29,9 +30,12 @@ class Exchange {
   virtual double minimum(double value) = 0;
   // Every block's `mine`, concatenated in rank order, on every block.
   virtual std::vector<double> gatherAll(const std::vector<double>& mine) = 0;
-  // The same on block 0 alone (the others get nothing): what one block assembles, such as the
-  // whole's state for a checkpoint, without every block holding it.
-  virtual std::vector<double> gatherToFirst(const std::vector<double>& mine) = 0;
+  // Every block's `mine` reaches block 0 alone, one block at a time in rank order (`take` is called
+  // there with each, block 0's own first; elsewhere never): what one block assembles, such as the
+  // whole's state for a checkpoint, without any block holding every block's copy at once. Block 0
+  // says first whether it can take the largest; if not, every block throws RunError together. A
+  // `take` that throws still lets the rest arrive (none is left waiting), then rethrows on block 0.
+  virtual void gatherToFirstEach(const std::vector<double>& mine, const std::function<void(const std::vector<double>&)>& take) = 0;
 };
 
 // Every block's `mine` that is not empty, in rank order, joined by "; ", on every block: the words

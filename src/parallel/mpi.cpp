@@ -1,5 +1,7 @@
 #include "parallel/mpi.hpp"
 
+#include <algorithm>
+#include <exception>
 #include <string>
 
 #include "core/error.hpp"
@@ -62,31 +64,43 @@ std::vector<double> MpiExchange::gatherAll(const std::vector<double>& mine) {
   return all;
 }
 
-std::vector<double> MpiExchange::gatherToFirst(const std::vector<double>& mine) {
+void MpiExchange::gatherToFirstEach(const std::vector<double>& mine, const std::function<void(const std::vector<double>&)>& take) {
   const int n = count(mine.size());
-  std::vector<int> counts(rank_ == 0 ? static_cast<std::size_t>(size_) : 0), offsets(counts.size(), 0);
+  std::vector<int> counts(rank_ == 0 ? static_cast<std::size_t>(size_) : 0);
   check(MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm_), "MPI_Gather");
-  // Rank 0 alone sizes and allocates the whole: every rank learns whether it could before any data
-  // moves, so that all fail together (no rank left waiting in the gather).
-  std::vector<double> all;
+  // Rank 0 takes one block at a time into one buffer, as large as the largest: every rank learns
+  // whether it could allocate it before any data moves, so that all fail together.
+  std::vector<double> buffer;
   int ok = 1;
   if (rank_ == 0) {
     try {
-      std::size_t total = 0;
-      for (std::size_t r = 0; r < counts.size(); ++r) {
-        offsets[r] = count(total);
-        total += static_cast<std::size_t>(counts[r]);
-      }
-      (void)count(total);
-      all.resize(total);
+      buffer.reserve(static_cast<std::size_t>(*std::max_element(counts.begin(), counts.end())));
     } catch (const std::exception&) {
       ok = 0;
     }
   }
   check(MPI_Bcast(&ok, 1, MPI_INT, 0, comm_), "MPI_Bcast");
-  if (!ok) throw RunError("MPI: rank 0 cannot hold what the ranks gather (memory, or more than 2^31 values)");
-  check(MPI_Gatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, 0, comm_), "MPI_Gatherv");
-  return all;
+  if (!ok) throw RunError("MPI: rank 0 cannot hold the largest block the ranks send it (memory)");
+  if (rank_ != 0) {
+    check(MPI_Send(mine.data(), n, MPI_DOUBLE, 0, 3, comm_), "MPI_Send");
+    return;
+  }
+  std::exception_ptr failed;
+  auto offer = [&](const std::vector<double>& v) {
+    if (failed) return;
+    try {
+      take(v);
+    } catch (...) {
+      failed = std::current_exception();
+    }
+  };
+  offer(mine);
+  for (int r = 1; r < size_; ++r) {   // in rank order, each into the one buffer
+    buffer.resize(static_cast<std::size_t>(counts[static_cast<std::size_t>(r)]));
+    check(MPI_Recv(buffer.data(), counts[static_cast<std::size_t>(r)], MPI_DOUBLE, r, 3, comm_, MPI_STATUS_IGNORE), "MPI_Recv");
+    offer(buffer);
+  }
+  if (failed) std::rethrow_exception(failed);
 }
 
 }  // namespace ejecta::parallel

@@ -19,7 +19,7 @@ class MpiExchange final : public Exchange {
                 std::vector<double>& from_hi) override;
   double minimum(double value) override;
   std::vector<double> gatherAll(const std::vector<double>& mine) override;
-  std::vector<double> gatherToFirst(const std::vector<double>& mine) override;
+  void gatherToFirstEach(const std::vector<double>& mine, const std::function<void(const std::vector<double>&)>& take) override;
 
  private:
   MPI_Comm comm_ = MPI_COMM_NULL;

@@ -1,6 +1,7 @@
 #include "parallel/threads.hpp"
 
 #include <algorithm>
+#include <exception>
 
 #include "core/error.hpp"
 
@@ -36,10 +37,20 @@ class ThreadMember final : public Exchange {
     team_.barrier_.arrive_and_wait();
     return all;
   }
-  std::vector<double> gatherToFirst(const std::vector<double>& mine) override {
-    auto all = gatherAll(mine);
-    if (rank_ != 0) all.clear();
-    return all;
+  void gatherToFirstEach(const std::vector<double>& mine, const std::function<void(const std::vector<double>&)>& take) override {
+    team_.gathered_[static_cast<std::size_t>(rank_)] = mine;
+    team_.barrier_.arrive_and_wait();
+    std::exception_ptr failed;
+    if (rank_ == 0)
+      for (const auto& g : team_.gathered_) {
+        try {
+          if (!failed) take(g);
+        } catch (...) {
+          failed = std::current_exception();
+        }
+      }
+    team_.barrier_.arrive_and_wait();
+    if (failed) std::rethrow_exception(failed);
   }
 
  private:
