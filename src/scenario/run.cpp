@@ -767,7 +767,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
         DriverState at = st;   // (a copy: the wall time so far goes into the file, not into the run's state)
         at.wall_before_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_wall0).count();
         putState(payload, at);
-        io::writeCheckpointFile((out / "checkpoint.bin").string(), checkpointHeader(deck, rs->time()), payload.str());
+        io::writeCheckpointFile((out / "checkpoint.bin").string(), checkpointHeader(deck, rs->time()), std::move(payload).str());   // (moved out: the bytes are not held twice)
       } catch (const std::exception& e) {
         if (!ex) throw;
         failed = e.what();
