@@ -112,7 +112,6 @@ void writeSums(Sums& S, Solver& target, RezoneReport& rep) {
           heat += loss[k];
         }
         shareHeat(M, m_new, loss, heat, held, add);
-        rep.heat_J += heat;
         rep.heat_by_cell.push_back(heat);
         for (int k = 0; k < M; ++k) {
           auto& F = target.fieldForSetup(k);

@@ -23,10 +23,14 @@ namespace ejecta::hydro {
 struct RezoneReport {
   std::size_t target_cells = 0;   // target cells that received source cells
   std::size_t source_cells = 0;   // source cells mapped (into a 3D quarter: ring-column pieces times layers)
-  double heat_J = 0.0;            // kinetic energy returned as heat (per radian in 2D axisymmetric)
-  // ...each target cell's, in the order of the cells (i, j, k; i slowest): the slabs' lists in rank
-  // order are the whole's, so summing them in turn gives heat_J to the bit
+  // Kinetic energy returned as heat (J; per radian in 2D axisymmetric) by each target cell, in the
+  // order of the cells (i, j, k; i slowest): the slabs' lists in rank order are the whole's list.
   std::vector<double> heat_by_cell;
+  double heatJ() const {   // their sum, in that order (the same to the bit on slabs as in the whole)
+    double sum = 0.0;
+    for (const double h : heat_by_cell) sum += h;
+    return sum;
+  }
 };
 
 // Maps `source` onto the cells of `target` that it covers. Both solvers must have the same

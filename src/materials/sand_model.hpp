@@ -209,18 +209,10 @@ class SandPointEos {
   double shearModulus(double x_max, double p) const noexcept {
     if (follow_pressure_) {
       const double pe = p - pore_p_;
-      double s = std::log1p((pe > 0.0 ? pe : 0.0) * kInvShearPressureScale) * inv_du_;
-      int i = static_cast<int>(s);
-      i = i > last_ ? last_ : i;
-      const double t = s - i;
-      return gp_[i] + (t > 1.0 ? 1.0 : t) * (gp_[i + 1] - gp_[i]);
+      return tableAt(gp_, std::log1p((pe > 0.0 ? pe : 0.0) * kInvShearPressureScale) * inv_du_);
     }
-    double s = x_max * inv_dx_;
-    s = s < 0.0 ? 0.0 : s;
-    int i = static_cast<int>(s);
-    i = i > last_ ? last_ : i;
-    const double t = s - i;
-    return g_[i] + (t > 1.0 ? 1.0 : t) * (g_[i + 1] - g_[i]);
+    const double s = x_max * inv_dx_;
+    return tableAt(g_, s < 0.0 ? 0.0 : s);
   }
   double referenceDensity() const { return rho0_; }
   double tensionCutoff() const { return p_cut_ + pore_p_; }   // Pa, the lowest pressure (pore pressure included)
@@ -246,6 +238,14 @@ class SandPointEos {
     const double k = k_unload_[i] + (t > 1.0 ? 1.0 : t) * (k_unload_[i + 1] - k_unload_[i]);
     const double p = p_on_curve - k * (x_max - x);
     return {p, k};
+  }
+
+  // A table at the fractional node s >= 0, held at its last value past the end.
+  double tableAt(const std::vector<double>& v, double s) const noexcept {
+    int i = static_cast<int>(s);
+    i = i > last_ ? last_ : i;
+    const double t = s - i;
+    return v[static_cast<std::size_t>(i)] + (t > 1.0 ? 1.0 : t) * (v[static_cast<std::size_t>(i) + 1] - v[static_cast<std::size_t>(i)]);
   }
 
   std::vector<double> p_, k_load_, k_unload_, g_;

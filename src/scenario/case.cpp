@@ -107,8 +107,9 @@ Case buildCase(const Deck& deck, const FineBlock* block, const RankPart* part, b
   o.body_friction = deck.target.kind != "none" ? deck.target.friction : 0.0;
   cs.whole_grid = three_d ? mesh::Grid(3, mesh::Geometry::Cartesian, {r_axis, r_axis, z_axis})
                           : mesh::Grid(2, mesh::Geometry::Axisymmetric, {r_axis, z_axis, mesh::Axis{}});
-  cs.slab = part && part->ranks > 1 ? rankSlab(*cs.whole_grid, part->rank, part->ranks) : parallel::Slab{0, cs.whole_grid->cells(0)};
-  cs.solver = std::make_unique<hydro::Solver>(part && part->ranks > 1 ? cs.whole_grid->slab(cs.slab.begin, cs.slab.end) : *cs.whole_grid, mats, o);
+  const bool split = part && part->ranks > 1;
+  cs.slab = split ? rankSlab(*cs.whole_grid, part->rank, part->ranks) : parallel::Slab{0, cs.whole_grid->cells(0)};
+  cs.solver = std::make_unique<hydro::Solver>(split ? cs.whole_grid->slab(cs.slab.begin, cs.slab.end) : *cs.whole_grid, mats, o);
   auto& s = *cs.solver;
   // shapes see (radius from the vertical axis, height) whatever the mesh
   auto rz = [three_d](const hydro::Vec3& x) { return three_d ? std::array<double, 2>{std::hypot(x[0], x[1]), x[2]} : std::array<double, 2>{x[0], x[1]}; };
@@ -150,10 +151,7 @@ Case buildCase(const Deck& deck, const FineBlock* block, const RankPart* part, b
       p.r_inner_m = t.kind == "annulus" ? t.inner_radius_m : 0.0;
       p.r_outer_m = t.radius_m;
       p.area_m2 = M_PI * (p.r_outer_m * p.r_outer_m - p.r_inner_m * p.r_inner_m);
-      cs.body_inside = [p, three_d](const hydro::Vec3& x) {
-        const double r = three_d ? std::hypot(x[0], x[1]) : x[0], z = three_d ? x[2] : x[1];
-        return r >= p.r_inner_m && r < p.r_outer_m && z >= p.z_bottom_m && z < p.z_top_m;
-      };
+      cs.body_inside = [p, rz](const hydro::Vec3& x) { const auto q = rz(x); return q[0] >= p.r_inner_m && q[0] < p.r_outer_m && q[1] >= p.z_bottom_m && q[1] < p.z_top_m; };
     } else {
       // rectangle, or a V whose ridge runs along x with its keel down: each wing rises at
       // (90 - apex/2) degrees; thickness measured across the wing.

@@ -434,8 +434,13 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   };
   st.energy_initial = totalsNow().total();
   const double static_run = cs.plate.present ? cs.symmetry * rs->wholeBodyLoad()[up] : 0.0;   // N, the load at rest
-  // A free target carries the mesh between the uniform core's bottom and the domain's top with it.
-  if (cs.plate.present && deck.target.motion == "free" && deck.target.move_mesh) rs->moveMeshWithBody(cs.vertical, deck.mesh.core_bottom_m, deck.mesh.domain_top_m);
+  // A free target carries the mesh between the uniform core's bottom and the domain's top with it
+  // (the run's solver, and the whole a checkpoint on ranks is assembled into).
+  auto moveMeshWithTarget = [&](hydro::Solver& s) {
+    if (cs.plate.present && deck.target.motion == "free" && deck.target.move_mesh)
+      s.moveMeshWithBody(cs.vertical, deck.mesh.core_bottom_m, deck.mesh.domain_top_m);
+  };
+  moveMeshWithTarget(*rs);
   if (!opt.restart.empty()) {
     std::istringstream in(io::readCheckpointFile(opt.restart, checkpointHeader(deck, 0.0), nullptr));
     rs->readCheckpoint(in);
@@ -678,15 +683,14 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     }
     if (split) {
       if (const std::string all = parallel::gatherText(*ex, map_failed); !all.empty()) throw InputError("rezone", all);
-      // the counts summed; the heat summed cell by cell in the whole's order (one process's number)
+      // the counts summed; each cell's heat in the whole's order (its sum is one process's number)
       const auto counts = ex->gatherAll({static_cast<double>(rz.source_cells), static_cast<double>(rz.target_cells)});
-      const auto heats = ex->gatherAll(rz.heat_by_cell);
-      rz = {};
+      rz.heat_by_cell = ex->gatherAll(rz.heat_by_cell);
+      rz.source_cells = rz.target_cells = 0;
       for (std::size_t r = 0; r + 2 <= counts.size(); r += 2) {
         rz.source_cells += static_cast<std::size_t>(counts[r]);
         rz.target_cells += static_cast<std::size_t>(counts[r + 1]);
       }
-      for (const double h : heats) rz.heat_J += h;
     }
     const auto& led = fs_.energyLedger();
     rs->startAt(fs_.time(), !split || ex->rank() == 0 ? led.scaled(to_run) : hydro::EnergyLedger{});
@@ -705,13 +709,13 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
                   {"burn_time_s", plan->burn_time_s},
                   {"mapping", onto_3d ? "axisymmetric block onto the 3D quarter" : "nested"},
                   {"mapped_run_cells", rz.target_cells},
-                  {"mapping_heat_J", cs.symmetry * rz.heat_J},
+                  {"mapping_heat_J", cs.symmetry * rz.heatJ()},
                   {"boundary_flux_J", -fine.symmetry * fine_tot.boundary_in},
                   {"warnings", early_warnings},
                   {"wall_seconds", wall_early}};
     say(fmt::format("early time: mapped {} fine {} onto {} run cells at t = {:.3g} us ({:.1f} s); the kinetic energy one velocity per run cell "
                     "cannot hold, {:.3g} J, is heat",
-                    rz.source_cells, onto_3d ? "ring-column pieces" : "cells", rz.target_cells, 1e6 * fs_.time(), wall_early, cs.symmetry * rz.heat_J));
+                    rz.source_cells, onto_3d ? "ring-column pieces" : "cells", rz.target_cells, 1e6 * fs_.time(), wall_early, cs.symmetry * rz.heatJ()));
     st.next_history = rs->time();
     record();
   }
@@ -744,8 +748,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     if (split && writer) {
       try {   // (a failure here still takes part in the gather below: the others are in it)
         whole = buildCase(deck, nullptr, nullptr, false);   // the cells come from the slabs: not painted
-        if (cs.plate.present && deck.target.motion == "free" && deck.target.move_mesh)
-          whole->solver->moveMeshWithBody(cs.vertical, deck.mesh.core_bottom_m, deck.mesh.domain_top_m);
+        moveMeshWithTarget(*whole->solver);
       } catch (const std::exception& e) {
         whole.reset();
         failed = e.what();

@@ -178,9 +178,9 @@ TEST(Decomposition, AnAxisymmetricStateMapsOntoSlabsOfTheQuarterAsOntoTheWhole) 
     expectSameCells(whole, block);
   }
   EXPECT_EQ(cells, full.target_cells);
-  EXPECT_EQ(heat, full.heat_J);
+  EXPECT_EQ(heat, full.heatJ());
   EXPECT_GT(full.target_cells, 0u);
-  EXPECT_GT(full.heat_J, 0.0);
+  EXPECT_GT(full.heatJ(), 0.0);
 }
 
 // The same for the nested map of a 2D run (the fine block spans slabs: 12 of the 36 run columns, 5 slabs).
@@ -202,7 +202,7 @@ TEST(Decomposition, ANestedStateMapsOntoSlabsAsOntoTheWhole) {
   }
   EXPECT_EQ(slabs_mapped, 2);
   EXPECT_EQ(cells, full.target_cells);
-  EXPECT_EQ(heat, full.heat_J);
+  EXPECT_EQ(heat, full.heatJ());
 }
 
 // Slabs built as slabs and stepped, gathered into a whole on the first block alone (a checkpoint on
