@@ -21,7 +21,8 @@ namespace {
 struct SoilOptions {
   std::string dry_density, wet_density, moisture, saturation;
   std::string grain_density, quartz_k, quartz_kp, friction_slope, tension_cutoff, poisson;
-  std::string water_eos = "awg", plateau_law = "effective-stress", shear_modulus_law = "compaction", yield_plateau, plateau_scale, plateau_residual, thermal_gamma, shear_modulus_cap;
+  std::string water_eos = "awg", plateau_law = "effective-stress", shear_modulus_law = "pressure", yield_plateau, plateau_scale, plateau_residual, thermal_gamma, shear_modulus_cap,
+              min_poisson_ratio;
   std::string lsdyna, units = "kg-m-s", csv_dir, json_out, plot;
   CLI::Option* json_opt = nullptr;
 };
@@ -68,6 +69,8 @@ materials::SandInputs buildInputs(const SoilOptions& o) {
   if (o.shear_modulus_law != "compaction" && o.shear_modulus_law != "pressure")
     throw InputError("shear-modulus-law", "unknown law '" + o.shear_modulus_law + "' (valid: compaction, pressure)");
   in.shear_follows_pressure = o.shear_modulus_law == "pressure";
+  // the sand model checks the range, naming this option
+  if (!o.min_poisson_ratio.empty()) in.min_poisson_ratio = parseNumber("min-poisson-ratio", o.min_poisson_ratio);
   if (!o.plateau_residual.empty()) in.plateau.residual = parseNumber("plateau-residual", o.plateau_residual);
   return in;
 }
@@ -157,7 +160,9 @@ Action addSoilCommand(CLI::App& app) {
   sub->add_option("--thermal-gamma", o->thermal_gamma, "Gruneisen coefficient of the energy term p = C(x) + gamma T(x) rho0 e, [0, 4] (default: from the constituents)");
   sub->add_option("--shear-modulus-cap", o->shear_modulus_cap, "Cap on the skeleton's shear modulus, Pa, [1e8, 4.5e10], or 0: quartz's (the default, 4.5e10)");
   sub->add_option("--shear-modulus-law", o->shear_modulus_law,
-                  "What the skeleton's shear modulus follows in the hydrocode: compaction (the largest seen; default) or pressure (the effective pressure now)");
+                  "What the skeleton's shear modulus follows in the hydrocode: pressure (the effective pressure now; default) or compaction (the largest seen)");
+  sub->add_option("--min-poisson-ratio", o->min_poisson_ratio,
+                  "Poisson's ratio that bounds the skeleton's shear modulus, G <= 3 K_u (1 - 2 nu) / (2 (1 + nu)), [0, 0.45] (default 0.22, Sjobo's)");
   sub->add_option("--plateau-residual", o->plateau_residual, "Floor of the plateau, Pa (default 0)");
   sub->add_option("--lsdyna", o->lsdyna, "Write an LS-DYNA keyword file (*MAT_PSEUDO_TENSOR, *EOS_TABULATED_COMPACTION)");
   sub->add_option("--units", o->units, "Unit system of the keyword file: kg-m-s (default), g-mm-ms, t-mm-s");

@@ -52,9 +52,11 @@ struct DetonationPoint {
 // 9: outflow boundaries let no detonation products back in, SolverOptions::inflow_barred;
 // 10: the MUSCL-Hancock predictor advances a mixed cell's stresses with its Reuss modulus
 // (Pencil::Kp), an r-sweep's with the whole dilatation, and the hoop stress to the same half step).
+// 11: the sand's shear modulus follows the effective pressure now (was: the largest compaction
+// seen) and is bounded by a Poisson's ratio of 0.22 on the unloading bulk modulus (docs/sand-model.md).
 // `ejecta validate --reuse` reruns a case saved by another revision; a checkpoint of another
 // revision is refused (its energy books differ in layout too).
-inline constexpr int kSolverRevision = 10;
+inline constexpr int kSolverRevision = 11;
 
 struct SolverOptions {
   double cfl = 0.45;                     // - Courant number of each sweep

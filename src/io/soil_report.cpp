@@ -51,6 +51,7 @@ json soilJson(const SandModel& m) {
                  {"quartz_shear_modulus_Pa", in.quartz.shear_modulus},
                  {"shear_modulus_cap_Pa", m.shearModulusCap()},
                  {"shear_modulus_law", in.shear_follows_pressure ? "pressure" : "compaction"},
+                 {"min_poisson_ratio", in.min_poisson_ratio},
                  {"water_eos", {{"name", in.water.name}, {"rho0_kg_m3", in.water.rho0}, {"C_m_s", in.water.c0},
                                 {"S1", in.water.s1}, {"S2", in.water.s2}, {"S3", in.water.s3},
                                 {"gamma0", in.water.gamma0}, {"status", in.water.status}}},
@@ -67,6 +68,7 @@ json soilJson(const SandModel& m) {
       {"sjobo_compaction", "Laine & Sandvik 2001 via LSTC decks: verified, except the 1740 kg/m3 row (recalled)"},
       {"sjobo_unloading", "recalled, provisional: clamped so unloading is never softer than loading"},
       {"sjobo_shear_modulus", "76.9 MPa at 1674 kg/m3, verified"},
+      {"min_poisson_ratio", "ours: the Sjobo sand's measured Poisson's ratio (verified) as a lower bound, so G never exceeds what it gives on K_u (docs/sand-model.md)"},
       {"shear_modulus_cap", "ours: the quartz grains' own shear modulus unless given (compacted, crushed sand lies below it; not measured: an input with a sensitivity, docs/sand-model.md)"},
       {"quartz_dK_dp", "ours: 6 (alpha-quartz compression studies give 4-6)"},
       {"yield_plateau", "ours: effective-stress law, see docs/sand-model.md"},
@@ -154,6 +156,7 @@ std::string soilSummaryText(const SandModel& m) {
   out += fmt::format("  initial shear modulus           {:10.1f} MPa\n", k.initial_shear_modulus / 1e6);
   out += fmt::format("  shear modulus cap               {:10.1f} MPa  ({})\n", m.shearModulusCap() / 1e6, in.shear_modulus_cap > 0.0 ? "input" : "quartz's");
   out += fmt::format("  shear modulus follows           {:>10}  (in the hydrocode)\n", in.shear_follows_pressure ? "pressure" : "compaction");
+  out += fmt::format("  shear modulus bound             {:10.2f}  (Poisson's ratio at least; G <= 3 K_u (1 - 2 nu) / (2 (1 + nu)))\n", in.min_poisson_ratio);
   out += fmt::format("  lockup pressure                 {:10.1f} MPa\n", k.lockup_pressure / 1e6);
   out += fmt::format("  lockup strain, -ln(V/V0)        {:10.4f}  (density {:.0f} kg/m3)\n", k.lockup_strain,
                      k.lockup_density);

@@ -112,6 +112,7 @@ SandModel::SandModel(const SandInputs& in) : in_(in), void_((
   requireRange("plateau-residual", in.plateau.residual, 0.0, 1e10, "Pa", false, false);
   requireRange("yield-plateau", in.plateau.fixed, 0.0, 1e10, "Pa", false, false);
   if (in.thermal_gamma != -1.0) requireInRange("thermal-gamma", in.thermal_gamma, kThermalGammaRange, "- (or -1: from the constituents)");
+  requireInRange("min-poisson-ratio", in.min_poisson_ratio, kMinPoissonRatioRange, "-");
   if (in.shear_modulus_cap != 0.0) requireInRange("shear-modulus-cap", in.shear_modulus_cap, kShearModulusCapRange, "Pa (or 0: quartz's)");
 
   SandState s{};
@@ -185,10 +186,14 @@ double SandModel::unloadingModulus(double p) const { return (1.0 - strain(p)) / 
 double SandModel::shearModulus(double p) const {
   // Shear is carried by the grain skeleton alone (pore water has none): G scales with the
   // skeleton's unloading stiffness, anchored to the measured Sjobo G0, capped at quartz's (or at
-  // the input cap below it).
+  // the input cap below it), and at most what the bounding Poisson's ratio gives on the whole
+  // mixture's unloading bulk modulus (the skeleton's compliance alone misses the (1 - strain)
+  // factor and the pore water's series compliance that K_u carries).
   const double n = state_.porosity;
   const double c_skel = n * void_.unloadingCompliance(p) + (1.0 - n) * in_.quartz.compliance(p);
-  return std::min(kSjoboShearModulus * skeleton_ref_compliance_ / c_skel, shearModulusCap());
+  const double nu = in_.min_poisson_ratio;
+  const double g_poisson = 1.5 * (1.0 - 2.0 * nu) / (1.0 + nu) * unloadingModulus(p);
+  return std::min({kSjoboShearModulus * skeleton_ref_compliance_ / c_skel, g_poisson, shearModulusCap()});
 }
 
 double SandModel::yieldStrength(double p) const {

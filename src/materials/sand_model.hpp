@@ -35,6 +35,7 @@ inline constexpr Range kMoistureRange{0.0, INFINITY, false, true};   // - gravim
 inline constexpr Range kPlateauScaleRange{0.0, 10.0};                // - on the effective-stress plateau
 inline constexpr Range kThermalGammaRange{0.0, 4.0};                 // - the energy term's Gruneisen coefficient
 inline constexpr Range kShearModulusCapRange{1e8, 45e9};             // Pa, the cap on the skeleton's shear modulus (at most quartz's)
+inline constexpr Range kMinPoissonRatioRange{0.0, 0.45};             // -, the Poisson bound on the skeleton's shear modulus
 
 struct SandInputs {
   double dry_density = 1280.0;   // kg/m3
@@ -56,8 +57,13 @@ struct SandInputs {
   // compaction the sand has seen (false: G stays where the loading took it, after unloading too, as
   // a solid aggregate would), or the present effective pressure (true: G as on the loading curve at
   // the pressure now, so unloaded sand, and a dust of it in the products, is as soft as sand at that
-  // pressure, as a granular skeleton's modulus follows its confinement).
-  bool shear_follows_pressure = false;
+  // pressure, as a granular skeleton's modulus follows its confinement). Revision 11's default.
+  bool shear_follows_pressure = true;
+  // The skeleton's G is bounded by this Poisson's ratio on the unloading bulk modulus:
+  // G <= 3 K_u (1 - 2 nu) / (2 (1 + nu)). Scaled from the dry skeleton's compliance alone, G would
+  // exceed 1.5 K_u while the air voids close (nu < 0, which no granular material shows); the
+  // default is the measured Poisson's ratio of the Sjobo sand that anchors G0 (docs/sand-model.md).
+  double min_poisson_ratio = kSjoboPoisson;   // -
   // Porosity at most this: looser than any sand packing (random loose packing of spheres is about
   // 0.45, the loosest natural sands about 0.55). The model's bounding-case checks (a pure water
   // column, porosity -> 1) raise it to 1.

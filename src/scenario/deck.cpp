@@ -72,7 +72,8 @@ Key list(std::string section, std::string name, FieldOf f, KeyType type, std::st
 // inside the domain, the plate inside the domain, a layer holding the charge) are checked after
 // the whole deck is read (checkConsistency), naming the key.
 std::vector<Key> makeKeys() {
-  using materials::kMoistureRange, materials::kPlateauScaleRange, materials::kThermalGammaRange, materials::kShearModulusCapRange;
+  using materials::kMoistureRange, materials::kPlateauScaleRange, materials::kThermalGammaRange, materials::kShearModulusCapRange,
+      materials::kMinPoissonRatioRange;
   const Range any_length{-100.0, 100.0};
   const Range density{0.0, 1e5};
   std::vector<Key> k{
@@ -119,6 +120,9 @@ std::vector<Key> makeKeys() {
       text("soil", "shear_modulus_law", layer<&SoilSpec::shear_modulus_law>, {"compaction", "pressure"},
            "what the skeleton's shear modulus follows: the largest compaction seen (it stays after unloading) or the effective pressure now "
            "(docs/sand-model.md)"),
+      number("soil", "min_poisson_ratio", layer<&SoilSpec::min_poisson_ratio>, "-", kMinPoissonRatioRange,
+             "the Poisson's ratio that bounds the skeleton's shear modulus on the unloading bulk modulus; default the Sjobo sand's measured 0.22 "
+             "(docs/sand-model.md)"),
 
       flag("backfill", "enabled", in<&Deck::backfill, &BackfillSpec::enabled>,
            "a dug-and-backfilled cover over the charge, from the surface to the charge top (soil options of the first layer)"),
@@ -378,7 +382,8 @@ void checkSand(const materials::SandInputs& in, const std::string& prefix, bool 
       if (wet_given) msg += " (the dry density, wet_density_kg_m3 / (1 + moisture))";
     } else {
       static const std::map<std::string, std::string> deck_key{
-          {"plateau-scale", "plateau_scale"}, {"thermal-gamma", "thermal_gamma"}, {"shear-modulus-cap", "shear_modulus_cap_pa"}};
+          {"plateau-scale", "plateau_scale"}, {"thermal-gamma", "thermal_gamma"}, {"shear-modulus-cap", "shear_modulus_cap_pa"},
+          {"min-poisson-ratio", "min_poisson_ratio"}};
       if (const auto it = deck_key.find(f); it != deck_key.end()) key = it->second;
     }
     throw InputError(prefix + "." + key, msg);
@@ -536,6 +541,7 @@ materials::SandInputs sandInputsOf(const SoilSpec& s) {
   in.thermal_gamma = s.thermal_gamma;
   in.shear_modulus_cap = s.shear_modulus_cap_pa;
   in.shear_follows_pressure = s.shear_modulus_law == "pressure";
+  in.min_poisson_ratio = s.min_poisson_ratio;
   return in;
 }
 

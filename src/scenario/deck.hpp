@@ -33,7 +33,8 @@ struct SoilSpec {
   double plateau_scale = 1.0;
   double thermal_gamma = -1.0;        // - the energy term's Gruneisen coefficient; < 0: from the constituents
   double shear_modulus_cap_pa = 0.0;  // Pa, the cap on the skeleton's shear modulus; 0: quartz's
-  std::string shear_modulus_law = "compaction";   // what G follows: "compaction" (the largest seen) or "pressure" (now)
+  std::string shear_modulus_law = "pressure";   // what G follows: "compaction" (the largest seen) or "pressure" (now)
+  double min_poisson_ratio = materials::kSjoboPoisson;   // -, G <= 3 K_u (1 - 2 nu) / (2 (1 + nu))
 };
 
 struct ChargeSpec {

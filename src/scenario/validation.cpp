@@ -106,6 +106,10 @@ const std::vector<Perturbation>& perturbations() {
       // which also sets the time step late in a run (docs/sand-model.md)
       {"sens-shear-cap-10gpa", "sand shear modulus cap", "45 GPa (quartz)", "10 GPa", "soil.0.shear_modulus_cap_pa=1e10", "% for the change", 1.0},
       {"sens-shear-cap-1gpa", "sand shear modulus cap", "45 GPa (quartz)", "1 GPa", "soil.0.shear_modulus_cap_pa=1e9", "% for the change", 1.0},
+      // what the skeleton's G follows, and the Poisson's ratio that bounds it (revision 11's choices)
+      {"sens-shear-law-compaction", "sand shear modulus law", "pressure now", "largest compaction seen (revision 10)",
+       "soil.0.shear_modulus_law=\"compaction\"", "% for the change", 1.0},
+      {"sens-min-poisson-0.1", "sand shear modulus bound (Poisson's ratio)", "0.22 (Sjobo)", "0.1", "soil.0.min_poisson_ratio=0.1", "% for the change", 1.0},
       // not an input of the physics: the time step at the same cells (the Courant number)
       {"sens-cfl-0.3", "time step (Courant number)", "0.45", "0.30", "cfl=0.3", "% for the change", 1.0},
   };

@@ -230,6 +230,7 @@ TEST(SandPointEos, UnloadsElasticallyAndReloadsOnTheSamePath) {
 TEST(SandPointEos, ShearModulusFollowsTheCompactionSeenOrThePressureNow) {
   SandInputs in = SandInputs::fromWetDensity(1370.0, 0.07);
   in.pore_pressure = 101325.0;
+  in.shear_follows_pressure = false;
   const SandModel by_compaction(in);
   in.shear_follows_pressure = true;
   const SandModel by_pressure(in);
@@ -246,6 +247,39 @@ TEST(SandPointEos, ShearModulusFollowsTheCompactionSeenOrThePressureNow) {
   for (const double pe : {1e5, 3e6, 1e8, 2e9}) {
     const double g = by_compaction.shearModulus(pe);
     EXPECT_NEAR(p.shearModulus(x_max, pe + in.pore_pressure), g, 0.01 * g) << pe;
+  }
+}
+
+// Poisson's ratio of the skeleton, nu = (3 K_u - 2 G) / (2 (3 K_u + G)), on the loading curve: the
+// bound holds it at or above min_poisson_ratio where the skeleton's compliance alone would give
+// nu < 0 (closing air voids), leaves the laid sand alone (Sjobo's measured G0), and the quartz cap
+// still holds at the top.
+TEST(SandModel, ShearModulusKeepsPoissonsRatioAtOrAboveTheBound) {
+  const auto poisson = [](const CurvePoint& c) {
+    return (3.0 * c.unloading_modulus - 2.0 * c.shear_modulus) / (2.0 * (3.0 * c.unloading_modulus + c.shear_modulus));
+  };
+  for (const double w : {0.0, 0.07, 0.14, 0.22}) {
+    SandInputs in = SandInputs::fromWetDensity(1370.0 * (1.0 + w) / 1.07, w);
+    const SandModel bounded(in);
+    in.min_poisson_ratio = 0.0;
+    const SandModel loose(in);
+    double nu_min_bounded = 1.0, nu_min_loose = 1.0;
+    for (const auto& c : bounded.sampleLoading(200)) {
+      nu_min_bounded = std::min(nu_min_bounded, poisson(c));
+      EXPECT_LE(c.shear_modulus, bounded.shearModulusCap()) << c.pressure;
+    }
+    for (const auto& c : loose.sampleLoading(200)) nu_min_loose = std::min(nu_min_loose, poisson(c));
+    EXPECT_GE(nu_min_bounded, kSjoboPoisson - 1e-12) << w;
+    EXPECT_LT(nu_min_loose, kSjoboPoisson - 0.1) << w;   // without the bound it would fall well below
+  }
+  EXPECT_DOUBLE_EQ(SandModel(dry(kSjoboDensity)).shearModulus(0.0), kSjoboShearModulus);   // laid: untouched
+  SandInputs bad = dry(kSjoboDensity);
+  bad.min_poisson_ratio = 0.5;
+  try {
+    SandModel m(bad);
+    ADD_FAILURE() << "a Poisson's ratio of 0.5 leaves no shear modulus: it must be refused";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "min-poisson-ratio");
   }
 }
 
