@@ -87,8 +87,13 @@ double kinneyGrahamOverpressure(double z, double p_ambient) {
 SandShock sandPistonShock(const materials::Material& sand, double up) {
   const auto& model = *sand.sand_model;
   const double rho0 = sand.referenceDensity();
+  // The energy jump from rest at zero stress gives the shocked sand e = up^2 / 2 whatever the strain;
+  // its energy term p_th = gamma T(x) rho0 e adds to the compaction curve's pressure (and so to the
+  // friction strength), as the hydrocode's sand evaluates it.
+  const double e1 = 0.5 * up * up;
   auto axial = [&](double eps) {
-    const double p = model.pressureAtNaturalStrain(-std::log(1.0 - eps));
+    const double x = -std::log(1.0 - eps);
+    const double p = model.pressureAtNaturalStrain(x) + model.thermalGamma() * model.thermalFactor(x) * rho0 * e1;
     return p + 2.0 / 3.0 * std::min(sand.sand_slope * p, sand.sand_plateau);
   };
   // sigma(eps) * eps = rho0 up^2 (mass and momentum jumps with eps = up / Us)
