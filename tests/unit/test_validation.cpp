@@ -250,7 +250,7 @@ TEST(ValidationReport, QuickMeshStudyJudgesItsSpreadAndTrend) {
   EXPECT_TRUE(diverging[0].at("pass").get<bool>());
   EXPECT_FALSE(diverging[1].at("pass").get<bool>());
   // oscillating at one size (revision 11's quick run, 4239/4300/4364/4302 N s: 1.42%, 1.47%,
-  // 1.44%; the first step alone would fail it): the last step is judged against the largest coarser one, not the first alone
+  // 1.44%; against the first step alone it would fail): judged against the largest coarser step
   const auto oscillating = quickMeshChecks({4239.0, 4300.0, 4364.0, 4302.0});
   EXPECT_TRUE(oscillating[1].at("pass").get<bool>());
   EXPECT_NE(oscillating[1].at("name").get<std::string>().find("(20 to 15 mm, 1.47%)"), std::string::npos) << oscillating[1].at("name");
