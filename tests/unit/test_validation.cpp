@@ -223,8 +223,8 @@ TEST(ValidationReport, AFallingMoistureTrendFailsItsCheck) {
   EXPECT_THROW(scenario::validationReport(plan, out, json::object()), RunError);
 }
 
-// The quick level judges what it computes: the mesh study's spread and trend, and the field
-// study's change. Synthetic impulses for the quick sizes 25/20/15/12 mm.
+// The quick level judges what it computes: the mesh study's spread (its trend is shown), and the
+// field study's change. Synthetic impulses for the quick sizes 25/20/15/12 mm.
 json quickMeshChecks(const std::vector<double>& impulses) {
   const auto plan = scenario::validationPlan(ValidationLevel::Quick, {"mesh"});
   std::map<std::string, json> out;
@@ -233,34 +233,26 @@ json quickMeshChecks(const std::vector<double>& impulses) {
   return scenario::validationReport(plan, out, json::object()).at("checks");
 }
 
-TEST(ValidationReport, QuickMeshStudyJudgesItsSpreadAndTrend) {
+TEST(ValidationReport, QuickMeshStudyJudgesItsSpreadAndShowsItsTrend) {
   // converging: changes of 2.5%, 1.5%, 0.4% (revision 3's quick run, 4250/4357/4423/4404 N s)
   const auto good = quickMeshChecks({4250.0, 4357.0, 4423.0, 4404.0});
   ASSERT_EQ(good.size(), 10u);
   EXPECT_TRUE(good[0].at("pass").get<bool>());   // the finest three within 3% (0.85%)
   const double mean = (4357.0 + 4423.0 + 4404.0) / 3.0;
   EXPECT_NEAR(good[0].at("value").get<double>(), 100.0 * (mean - 4357.0) / mean, 1e-9);
-  EXPECT_TRUE(good[1].at("pass").get<bool>());   // the last step (0.43%) under the largest coarser one (2.46%)
+  // the trend (the finest step's change, 0.43%, against the coarsest's) is shown, never judged:
+  // the quick sizes' changes are at the noise (revision 11: 1.42 / 1.47 / 1.44%)
   EXPECT_NEAR(good[1].at("value").get<double>(), 100.0 * 19.0 / 4404.0, 1e-9);
+  EXPECT_TRUE(good[1].at("pass").is_null());
+  EXPECT_TRUE(quickMeshChecks({4239.0, 4300.0, 4364.0, 4302.0})[1].at("pass").is_null());
   EXPECT_TRUE(good[2].at("pass").is_null());      // the materials' shares: judged at the full level only
   EXPECT_TRUE(good[3].at("pass").is_null());
-  // diverging: each refinement moves the impulse more (0.2%, 0.7%, 1.8%), though the finest
-  // three stay within 3% of their mean: the trend fails, the spread passes
-  const auto diverging = quickMeshChecks({4400.0, 4390.0, 4420.0, 4500.0});
-  EXPECT_TRUE(diverging[0].at("pass").get<bool>());
-  EXPECT_FALSE(diverging[1].at("pass").get<bool>());
-  // oscillating at one size (revision 11's quick run, 4239/4300/4364/4302 N s: 1.42%, 1.47%,
-  // 1.44%; against the first step alone it would fail): judged against the largest coarser step
-  const auto oscillating = quickMeshChecks({4239.0, 4300.0, 4364.0, 4302.0});
-  EXPECT_TRUE(oscillating[1].at("pass").get<bool>());
-  EXPECT_NE(oscillating[1].at("name").get<std::string>().find("(20 to 15 mm, 1.47%)"), std::string::npos) << oscillating[1].at("name");
-  // small changes are noise: under 1% the last step passes even when it exceeds the first
-  const auto noisy = quickMeshChecks({4400.0, 4410.0, 4390.0, 4420.0});
-  EXPECT_TRUE(noisy[1].at("pass").get<bool>());
-  // steadily falling by 5% a step: the trend passes (no growth), the spread (5%) fails
+  // steadily falling by 5% a step: the spread (5%) fails
   const auto falling = quickMeshChecks({5000.0, 4750.0, 4512.5, 4290.0});
   EXPECT_FALSE(falling[0].at("pass").get<bool>());
-  EXPECT_TRUE(falling[1].at("pass").get<bool>());
+  // diverging: each refinement moves the impulse more (2%, 3%, 5%): the spread (4.4%) fails
+  const auto diverging = quickMeshChecks({4400.0, 4490.0, 4630.0, 4870.0});
+  EXPECT_FALSE(diverging[0].at("pass").get<bool>());
 }
 
 TEST(ValidationReport, FieldStudyFailsWhenABackfilledCoverMovesTheImpulseMuch) {
