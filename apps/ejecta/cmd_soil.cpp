@@ -162,7 +162,8 @@ Action addSoilCommand(CLI::App& app) {
   sub->add_option("--shear-modulus-law", o->shear_modulus_law,
                   "What the skeleton's shear modulus follows in the hydrocode: pressure (the effective pressure now; default) or compaction (the largest seen)");
   sub->add_option("--min-poisson-ratio", o->min_poisson_ratio,
-                  "Poisson's ratio that bounds the skeleton's shear modulus, G <= 3 K_u (1 - 2 nu) / (2 (1 + nu)), [0, 0.45] (default 0.22, Sjobo's)");
+                  fmt::format("Poisson's ratio that bounds the skeleton's shear modulus, G <= 3 K_u (1 - 2 nu) / (2 (1 + nu)), [{:g}, {:g}] (default {:g}, Sjobo's)",
+                              materials::kMinPoissonRatioRange.lo, materials::kMinPoissonRatioRange.hi, materials::kSjoboPoisson));
   sub->add_option("--plateau-residual", o->plateau_residual, "Floor of the plateau, Pa (default 0)");
   sub->add_option("--lsdyna", o->lsdyna, "Write an LS-DYNA keyword file (*MAT_PSEUDO_TENSOR, *EOS_TABULATED_COMPACTION)");
   sub->add_option("--units", o->units, "Unit system of the keyword file: kg-m-s (default), g-mm-ms, t-mm-s");

@@ -121,8 +121,8 @@ std::vector<Key> makeKeys() {
            "what the skeleton's shear modulus follows: the largest compaction seen (it stays after unloading) or the effective pressure now "
            "(docs/sand-model.md)"),
       number("soil", "min_poisson_ratio", layer<&SoilSpec::min_poisson_ratio>, "-", kMinPoissonRatioRange,
-             "the Poisson's ratio that bounds the skeleton's shear modulus on the unloading bulk modulus; default the Sjobo sand's measured 0.22 "
-             "(docs/sand-model.md)"),
+             fmt::format("the Poisson's ratio that bounds the skeleton's shear modulus on the unloading bulk modulus; default the Sjobo sand's "
+                         "measured {:g} (docs/sand-model.md)", materials::kSjoboPoisson)),
 
       flag("backfill", "enabled", in<&Deck::backfill, &BackfillSpec::enabled>,
            "a dug-and-backfilled cover over the charge, from the surface to the charge top (soil options of the first layer)"),
