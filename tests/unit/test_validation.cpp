@@ -38,6 +38,24 @@ TEST(ValidationPlan, FullLevelRunsThePublishedResolutionsAndEveryDeckLoads) {
   EXPECT_EQ(plan.studies.size(), scenario::validationStudies().size());
 }
 
+TEST(ValidationPlan, TheThreeQuarterPlatesShareTheirFarField) {
+  // the flat plate in 3D comes from the 2D deck: its far field must be graded as the V-plates' are,
+  // or the three 3D plates differ in more than the plate
+  const auto plan = scenario::validationPlan(ValidationLevel::Full, {"vplates"}, 20.0);
+  std::set<double> grading;
+  int quarters = 0;
+  for (const auto& c : plan.cases) {
+    const auto deck = scenario::loadDeck((std::filesystem::path(build_info::decks_dir) / (c.deck + ".toml")).string(), c.sets);
+    if (deck.geometry != "3d-quarter") continue;
+    ++quarters;
+    grading.insert(deck.mesh.grading);
+    EXPECT_DOUBLE_EQ(deck.mesh.cell_size_m, 0.020) << c.id;
+  }
+  EXPECT_EQ(quarters, 3);
+  ASSERT_EQ(grading.size(), 1u) << "the 3D quarter plates have different far fields";
+  EXPECT_GT(*grading.begin(), 1.05);   // coarser than the 2D decks' (docs/validate.md, "The far field of the 3D decks")
+}
+
 TEST(ValidationPlan, OnlyPicksStudiesAndTheirCasesAndRejectsUnknownNames) {
   const auto plan = scenario::validationPlan(ValidationLevel::Quick, {"sensitivity"});
   ASSERT_EQ(plan.studies, std::vector<std::string>{"sensitivity"});
