@@ -216,11 +216,11 @@ Action addValidateCommand(CLI::App& app) {
                                  "sensitivity to the unknown inputs, DRES soil bubble, 3D V-plates) and writes the report: validation.md + PNG\n"
                                  "figures, a self-contained validation.html and validation.json. Exit code 4 if a check fails.");
   sub->add_flag("--quick", o->quick, "Coarse cells, a few minutes on 2 cores (the default)");
-  sub->add_flag("--full", o->full, "The published resolution: plates at 5 mm, mesh study 10/6/5/4/3 mm, soil bubble 3 mm, sensitivity 10 mm (about an hour on 2 cores; the 3D V-plates at 10 mm about an hour a case more: 62 min measured for the 120 degree V)");
+  sub->add_flag("--full", o->full, "The published resolution: plates at 5 mm, mesh study 10/6/5/4/3 mm, soil bubble 3 mm, sensitivity 10 mm (about an hour on 2 cores; the 3D V-plates at 10 mm about 35 minutes a case more, as measured for the 120 degree V)");
   sub->add_option("--only", o->only, "Studies to run, comma-separated: mesh, moisture, field, share, sensitivity, dres, vplates (default: all)")
       ->delimiter(',');
   sub->add_option("--vplate-cell-size", o->vplate_mm,
-                  "Cell size of the 3D V-plates, mm, [5, 100] (default: the level's, quick 60 mm to 5 ms, full 10 mm to 10 ms; 20 mm at --full takes about 15 minutes on 2 cores)");
+                  "Cell size of the 3D V-plates, mm, [5, 100] (default: the level's, quick 60 mm to 5 ms, full 10 mm to 10 ms; 20 mm at --full takes about 12 minutes on 2 cores)");
   sub->add_option("--out", o->out, "Report folder (default out/validate)");
   sub->add_option("--work", o->work, "Folder for the case runs (default <out>/cases)");
   sub->add_option("--threads", o->threads, "Threads in all (default: all cores)");
