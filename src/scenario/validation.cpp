@@ -672,7 +672,8 @@ json validationReport(const ValidationPlan& plan, const std::map<std::string, js
       const auto c1 = check("V-plates: the 120 degree V takes less impulse than the flat plate (3D)", 100.0 * (I[2] - flat3) / flat3, "%", "< 0", I[2] < flat3);
       const auto c2 = check("V-plates: the 90 degree V takes less than the 120 degree V", 100.0 * (I[3] - I[2]) / I[2], "%", "< 0", I[3] < I[2]);
       const double d23 = 100.0 * (flat3 - I[0]) / I[0];
-      const auto c3 = check("V-plates: the 3D flat plate against the 2D one (same deck and core cells; the 3D far field graded as the V-plates')", d23, "%", "informative", json(nullptr));
+      const auto c3 = check("V-plates: the 3D flat plate against the 2D one (same deck and core cells; the 3D far field graded as the V-plates')",
+                            d23, "%", "informative", json(nullptr));
       sec["checks"] = json::array({c1, c2, c3});
       checks.push_back(c1);
       checks.push_back(c2);
@@ -682,9 +683,9 @@ json validationReport(const ValidationPlan& plan, const std::map<std::string, js
       sec["paragraphs"] = json::array(
           {fmt::format("The published V-plate results are the cases where other codes were off by the most. The detonation and first expansion "
                        "run on the axisymmetric early-time block and are mapped onto the 3D quarter (docs/solver.md). The flat plate in 3D takes "
-                       "{:+.1f}% against the 2D run of the same deck at the same core cells: the quarter's square cells against the rings, the disc's "
-                       "staircase in 3D, and its far field graded as the V-plates' (docs/validate.md). The 120 degree V takes {:+.1f}% and the 90 degree V {:+.1f}% against the 3D flat plate. The 120 degree case took "
-                       "{:.0f} s here{} ({}).",
+                       "{:+.1f}% against the 2D run of the same deck at the same core cells: the quarter's square cells against the rings, the "
+                       "disc's staircase in 3D, and its far field graded as the V-plates' (docs/validate.md). The 120 degree V takes {:+.1f}% "
+                       "and the 90 degree V {:+.1f}% against the 3D flat plate. The 120 degree case took {:.0f} s here{} ({}).",
                        d23, 100.0 * (I[2] - flat3) / flat3, 100.0 * (I[3] - flat3) / flat3, wall120,
                        parts120 ? ", in parts continued from checkpoints (the parts' wall times added; the machine may have been shared)" : "",
                        sz.vplate != sizesOf(plan.level).vplate
