@@ -379,7 +379,8 @@ json validationReport(const ValidationPlan& plan, const std::map<std::string, js
       // changes are that noise too. The spread above judges the study at both levels.
       if (h.size() >= 3) {
         const std::size_t n = h.size();
-        const double first_step = 100.0 * std::abs(imp[1] - imp[0]) / imp[1], last_step = 100.0 * std::abs(imp[n - 1] - imp[n - 2]) / imp[n - 1];
+        auto stepPct = [&](std::size_t i) { return 100.0 * std::abs(imp[i + 1] - imp[i]) / imp[i + 1]; };   // from h[i] to h[i + 1]
+        const double first_step = stepPct(0), last_step = stepPct(n - 2);
         const auto ct = check(fmt::format("mesh: the impulse's change from {} to {} mm against the change from {} to {} mm ({:.2f}%)", mm(h[n - 2]), mm(h[n - 1]),
                                           mm(h[0]), mm(h[1]), first_step),
                               last_step, "%", "informative (the changes are at the noise of the mean at these cells; the spread judges the study)",

@@ -17,6 +17,11 @@ namespace {
 using nlohmann::json;
 using scenario::ValidationLevel;
 
+// A planned case's deck as its run loads it: the built-in deck with the case's overrides.
+scenario::Deck plannedDeck(const scenario::ValidationCase& c) {
+  return scenario::loadDeck((std::filesystem::path(build_info::decks_dir) / (c.deck + ".toml")).string(), c.sets);
+}
+
 TEST(ValidationPlan, FullLevelRunsThePublishedResolutionsAndEveryDeckLoads) {
   const auto plan = scenario::validationPlan(ValidationLevel::Full);
   std::set<std::string> ids;
@@ -28,10 +33,10 @@ TEST(ValidationPlan, FullLevelRunsThePublishedResolutionsAndEveryDeckLoads) {
     else if (c.id.starts_with("sens")) EXPECT_DOUBLE_EQ(c.cell_mm, 10.0) << c.id;   // changes only: 10 mm keeps --full under 2 h
     else if (c.deck.starts_with("emi-v") || c.id.ends_with("-3d")) {
       EXPECT_DOUBLE_EQ(c.cell_mm, 10.0) << c.id;   // the 3D quarter cases (the 2D flat beside them is the sensitivity baseline)
-      EXPECT_EQ(scenario::loadDeck((std::filesystem::path(build_info::decks_dir) / (c.deck + ".toml")).string(), c.sets).geometry, "3d-quarter") << c.id;
+      EXPECT_EQ(plannedDeck(c).geometry, "3d-quarter") << c.id;
     } else EXPECT_DOUBLE_EQ(c.cell_mm, 5.0) << c.id;
     // the overrides name real keys (soil.0.plateau_scale, ...) and the cell size lands in the deck
-    const auto deck = scenario::loadDeck((std::filesystem::path(build_info::decks_dir) / (c.deck + ".toml")).string(), c.sets);
+    const auto deck = plannedDeck(c);
     EXPECT_DOUBLE_EQ(deck.mesh.cell_size_m, c.cell_mm / 1000.0) << c.id;
   }
   EXPECT_EQ(mesh, (std::set<double>{3.0, 4.0, 5.0, 6.0, 10.0}));
@@ -45,7 +50,7 @@ TEST(ValidationPlan, TheThreeQuarterPlatesShareTheirFarField) {
   std::set<double> grading;
   int quarters = 0;
   for (const auto& c : plan.cases) {
-    const auto deck = scenario::loadDeck((std::filesystem::path(build_info::decks_dir) / (c.deck + ".toml")).string(), c.sets);
+    const auto deck = plannedDeck(c);
     if (deck.geometry != "3d-quarter") continue;
     ++quarters;
     grading.insert(deck.mesh.grading);
@@ -74,7 +79,7 @@ TEST(ValidationPlan, VPlateCellSizeMovesOnlyTheVPlatesAndIsChecked) {
   ASSERT_EQ(plan.cases.size(), 4u);   // the 2D flat plate beside three 3D quarters, all at 20 mm
   for (const auto& c : plan.cases) {
     EXPECT_DOUBLE_EQ(c.cell_mm, 20.0) << c.id;
-    const auto deck = scenario::loadDeck((std::filesystem::path(build_info::decks_dir) / (c.deck + ".toml")).string(), c.sets);
+    const auto deck = plannedDeck(c);
     EXPECT_DOUBLE_EQ(deck.mesh.cell_size_m, 0.020) << c.id;
     EXPECT_DOUBLE_EQ(deck.end_time_s, 0.010) << c.id;   // the full level's 10 ms
   }
@@ -88,7 +93,7 @@ TEST(ValidationPlan, VPlateCellSizeMovesOnlyTheVPlatesAndIsChecked) {
   const auto quick = scenario::validationPlan(ValidationLevel::Quick, {}, 20.0);
   for (const auto& c : quick.cases)
     if (c.id == "vplate-flat-2d-20mm") {
-      EXPECT_DOUBLE_EQ(scenario::loadDeck((std::filesystem::path(build_info::decks_dir) / (c.deck + ".toml")).string(), c.sets).end_time_s, 0.005);
+      EXPECT_DOUBLE_EQ(plannedDeck(c).end_time_s, 0.005);
     }
   EXPECT_EQ(std::count_if(quick.cases.begin(), quick.cases.end(), [](const auto& c) { return c.id == "vplate-flat-2d-20mm"; }), 1);
   for (const double bad : {3.0, 150.0, -20.0, std::nan("")}) {
