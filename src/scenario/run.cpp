@@ -402,6 +402,8 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
   const RankPart part{ex ? ex->rank() : 0, ex ? ex->size() : 1};
   Case cs = buildCase(deck, nullptr, ex && opt.restart.empty() ? &part : nullptr);
   checkSetUp(deck, cs, opt.restart.empty());
+  const auto mesh_warnings = targetOutsideCore(deck);
+  for (const auto& w : mesh_warnings) say("warning: " + w);
   hydro::Solver* rs = cs.solver.get();   // this rank's solver: the whole, or its slab
   if (rs->grid().isSlab()) rs->setExchange(ex);
   const auto& g = cs.grid();             // the whole's mesh (its radial axis never moves)
@@ -986,6 +988,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
                                "load the target (docs/solver.md, Boundaries)"}};
   }
   sum["early_time"] = early_json;
+  sum["mesh_warnings"] = mesh_warnings;   // the target's face outside the uniform core (targetOutsideCore)
   sum["charge"] = {{"radius_m", cs.charge.radius_m}, {"height_m", cs.charge.height_m}, {"z_top_m", cs.charge.z_top_m},
                    {"z_bottom_m", cs.charge.z_bottom_m}, {"detonation_z_m", cs.charge.detonation_m[1]}};
   sum["run"] = {{"cells", res.cells},

@@ -392,9 +392,37 @@ TEST(Decks, EveryShippedDeckLoads) {
     if (entry.path().extension() != ".toml") continue;
     SCOPED_TRACE(entry.path().string());
     EXPECT_NO_THROW(ejecta::scenario::loadDeck(entry.path().string()));
+    // and its plate lies in its uniform core: a shipped deck runs its target at its cell size
+    EXPECT_EQ(ejecta::scenario::targetOutsideCore(ejecta::scenario::loadDeck(entry.path().string())), std::vector<std::string>{});
     ++n;
   }
   EXPECT_GE(n, 14);
+}
+
+// A plate whose loaded face leaves the uniform core is named, with the key to raise and the
+// coarsest cell there (the 90 degree V's wings rise 0.40 m over its keel at 0.10 m).
+TEST(Decks, ATargetOutsideTheCoreIsNamedWithItsCoarsestCell) {
+  const auto path = (std::filesystem::path(ejecta::build_info::decks_dir) / "emi-v90-7.toml").string();
+  using ejecta::scenario::loadDeck;
+  using ejecta::scenario::targetOutsideCore;
+  EXPECT_TRUE(targetOutsideCore(loadDeck(path)).empty());
+  const auto low = targetOutsideCore(loadDeck(path, {"mesh.core_top_m=0.35"}));
+  ASSERT_EQ(low.size(), 1u);
+  EXPECT_TRUE(low[0].starts_with("mesh.core_top_m:")) << low[0];
+  EXPECT_NE(low[0].find("z = 0.500 m"), std::string::npos) << low[0];
+  // at 20 mm and 1.15 a cell the face's highest cells are 20 x 1.15^k: coarser than the core's
+  const auto pos = low[0].find("grow to ");
+  ASSERT_NE(pos, std::string::npos);
+  EXPECT_GT(std::stod(low[0].substr(pos + 8)), 30.0) << low[0];
+  EXPECT_LT(std::stod(low[0].substr(pos + 8)), 60.0) << low[0];
+  // a V wider than the core, and a V within it at a raised core: only the reach is named
+  const auto wide = targetOutsideCore(loadDeck(path, {"mesh.core_radius_m=0.3"}));
+  ASSERT_EQ(wide.size(), 1u);
+  EXPECT_TRUE(wide[0].starts_with("mesh.core_radius_m:")) << wide[0];
+  // a flat plate: its face is the standoff's height alone
+  const auto flat = (std::filesystem::path(ejecta::build_info::decks_dir) / "emi-flat-7.toml").string();
+  EXPECT_TRUE(targetOutsideCore(loadDeck(flat, {"target.standoff_m=0.15"})).empty());
+  EXPECT_EQ(targetOutsideCore(loadDeck(flat, {"target.standoff_m=0.16"})).size(), 1u);
 }
 
 // The free-air blast row of `ejecta verify` restates how a run is set up (it sits below the

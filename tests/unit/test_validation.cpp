@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "ejecta/build_info.hpp"
 #include "io/report.hpp"
+#include "scenario/case.hpp"
 #include "scenario/deck.hpp"
 #include "scenario/validation.hpp"
 
@@ -38,6 +39,8 @@ TEST(ValidationPlan, FullLevelRunsThePublishedResolutionsAndEveryDeckLoads) {
     // the overrides name real keys (soil.0.plateau_scale, ...) and the cell size lands in the deck
     const auto deck = plannedDeck(c);
     EXPECT_DOUBLE_EQ(deck.mesh.cell_size_m, c.cell_mm / 1000.0) << c.id;
+    // and every plate, the standoff study's raised ones too, lies in its case's uniform core
+    EXPECT_EQ(scenario::targetOutsideCore(deck), std::vector<std::string>{}) << c.id;
   }
   EXPECT_EQ(mesh, (std::set<double>{3.0, 4.0, 5.0, 6.0, 10.0}));
   EXPECT_EQ(plan.studies.size(), scenario::validationStudies().size());
