@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -54,30 +55,36 @@ std::vector<std::string> targetOutsideCore(const Deck& deck) {
   const auto& t = deck.target;
   if (t.kind == "none") return out;
   const auto& m = deck.mesh;
+  const double h = m.cell_size_m;
   // the loaded face: its lowest point at the standoff; a V's wings rise across its half-width
-  const double rise = t.kind == "v" ? t.half_width_m / std::tan(0.5 * t.apex_angle_deg * M_PI / 180.0) : 0.0;
-  const double z_lo = t.standoff_m, z_hi = t.standoff_m + rise;
-  const double reach = (t.kind == "disc" || t.kind == "annulus") ? t.radius_m : std::max(t.half_length_m, t.half_width_m);
-  // the widest cell of an axis over [lo, hi]
-  auto widest = [](const mesh::Axis& a, double lo, double hi) {
+  const bool v = t.kind == "v";
+  const double z_lo = t.standoff_m, z_hi = t.standoff_m + (v ? t.half_width_m / std::tan(0.5 * t.apex_angle_deg * M_PI / 180.0) : 0.0);
+  const bool round = t.kind == "disc" || t.kind == "annulus";
+  const double reach = round ? t.radius_m : std::max(t.half_length_m, t.half_width_m);
+  // The built mesh's cells (as buildCase lays them: the core's ends fall on whole cells, so up to
+  // half a cell from the keys) whose centres lie in [lo, hi], against the core's own width: the
+  // widest of them, or 0 where all are the core's.
+  auto coarser = [](const mesh::Axis& a, double lo, double hi) {
     const auto& f = a.faces();
-    double w = 0.0;
-    for (std::size_t i = 0; i + 1 < f.size(); ++i)
-      if (f[i + 1] > lo && f[i] < hi) w = std::max(w, f[i + 1] - f[i]);
-    return w;
+    double narrowest = std::numeric_limits<double>::infinity(), widest = 0.0;
+    for (std::size_t i = 0; i + 1 < f.size(); ++i) {
+      narrowest = std::min(narrowest, f[i + 1] - f[i]);
+      const double c = 0.5 * (f[i] + f[i + 1]);
+      if (c >= lo && c <= hi) widest = std::max(widest, f[i + 1] - f[i]);
+    }
+    return widest > narrowest * (1.0 + 1e-6) ? widest : 0.0;
   };
-  if (z_hi > m.core_top_m) {
-    const auto z = mesh::Axis::graded(m.domain_bottom_m, m.domain_top_m, m.core_bottom_m, m.core_top_m, m.cell_size_m, m.grading, 0.0);
+  // the flow cells under the face: from a cell below its lowest point to its highest
+  const auto z = mesh::Axis::graded(m.domain_bottom_m, m.domain_top_m, m.core_bottom_m, m.core_top_m, h, m.grading, 0.0);
+  if (const double w = coarser(z, z_lo - h, z_hi); w > 0.0)
     out.push_back(fmt::format("mesh.core_top_m: the target's loaded face reaches z = {:.3f} m, above the uniform core's top ({:g} m), "
                               "where its cells grow to {:.3g} mm against mesh.cell_size_m = {:.3g} mm; raise mesh.core_top_m to at least {:.3f} m",
-                              z_hi, m.core_top_m, 1e3 * widest(z, z_lo, z_hi), 1e3 * m.cell_size_m, z_hi));
-  }
-  if (reach > m.core_radius_m) {
-    const auto r = mesh::Axis::graded(0.0, m.domain_radius_m, 0.0, m.core_radius_m, m.cell_size_m, m.grading);
-    out.push_back(fmt::format("mesh.core_radius_m: the target reaches {:.3f} m from the axis, past the uniform core ({:g} m), "
+                              z_hi, m.core_top_m, 1e3 * w, 1e3 * h, z_hi + h));
+  const auto r = mesh::Axis::graded(0.0, m.domain_radius_m, 0.0, m.core_radius_m, h, m.grading);
+  if (const double w = coarser(r, 0.0, reach); w > 0.0)
+    out.push_back(fmt::format("mesh.core_radius_m: the target reaches {:.3f} m {}, past the uniform core ({:g} m), "
                               "where its cells grow to {:.3g} mm against mesh.cell_size_m = {:.3g} mm; raise mesh.core_radius_m to at least {:.3f} m",
-                              reach, m.core_radius_m, 1e3 * widest(r, 0.0, reach), 1e3 * m.cell_size_m, reach));
-  }
+                              reach, round ? "from the axis" : "along x or y", m.core_radius_m, 1e3 * w, 1e3 * h, reach + h));
   return out;
 }
 

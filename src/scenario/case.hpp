@@ -63,10 +63,10 @@ struct RankPart {
 Case buildCase(const Deck& deck, const FineBlock* block = nullptr, const RankPart* part = nullptr, bool paint = true);
 ChargeGeometry chargeGeometry(const ChargeSpec& c);
 
-// Where the target's loaded (under) face reaches past the uniform core, its cells are the far
-// field's, coarser than mesh.cell_size_m: one sentence per way out (naming the key to raise and the
-// coarsest cell there), empty when the face lies in the core. A warning, not an error: a user may
-// choose it, but a plate in graded cells is not at the run's resolution.
+// Where the target's loaded (under) face reaches past the uniform core of the mesh as built, its
+// cells are the far field's, coarser than the core's: one sentence per way out (naming the key to
+// raise and the coarsest cell there), empty when the flow cells under the face are all the core's.
+// A warning, not an error: a user may choose it, but such a plate is not at the run's resolution.
 std::vector<std::string> targetOutsideCore(const Deck& deck);
 
 }  // namespace ejecta::scenario

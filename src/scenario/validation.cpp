@@ -231,7 +231,7 @@ ValidationPlan validationPlan(ValidationLevel level, const std::vector<std::stri
     for (const auto& p : perturbations()) {
       std::vector<std::string> sets{p.set};
       if (!p.mesh_set.empty()) sets.push_back(p.mesh_set);
-      add(makeCase(p.id, "emi-flat-7", sz.sensitivity, sets, p.set));
+      add(makeCase(p.id, "emi-flat-7", sz.sensitivity, sets, p.mesh_set.empty() ? p.set : p.set + ", " + p.mesh_set));
     }
   }
   if (wants("dres"))

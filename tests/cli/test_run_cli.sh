@@ -34,6 +34,15 @@ import xml.etree.ElementTree as ET
 names = [a.get(\"Name\") for a in ET.parse(\"xml-name/fields/field_0000.vtr\").getroot().iter(\"DataArray\")]
 assert \"alpha_sand <wet> & \\\"x\\\"\" in names, names'"
 
+# A plate above the uniform core is run, and said to be: in the log and in summary.json (the
+# deck's own plate, in its core, has none).
+"$ejecta" run "${common[@]}" --set target.standoff_m=0.3 --no-plot --out high > /dev/null 2> high.err
+check "a plate above the core: the run warns, naming the key" "grep -q 'run: warning: mesh.core_top_m: the target.s loaded face reaches z = 0.300 m' high.err"
+check "a plate above the core: summary.json lists it, the deck's plate none" "python3 -c '
+import json
+assert len(json.load(open(\"high/summary.json\"))[\"mesh_warnings\"]) == 1
+assert json.load(open(\"a/summary.json\"))[\"mesh_warnings\"] == []'"
+
 # Output times the early time ran past (its block is not the run mesh) are taken at the map time,
 # said so, and recorded at that time (they stopped the run with a negative time step before).
 "$ejecta" run "${common[@]}" --set 'output.field_times_s=[0.000001,0.0004]' --set 'output.profile_times_s=[0.000001,0.0005]' --no-plot \

@@ -423,6 +423,10 @@ TEST(Decks, ATargetOutsideTheCoreIsNamedWithItsCoarsestCell) {
   const auto flat = (std::filesystem::path(ejecta::build_info::decks_dir) / "emi-flat-7.toml").string();
   EXPECT_TRUE(targetOutsideCore(loadDeck(flat, {"target.standoff_m=0.15"})).empty());
   EXPECT_EQ(targetOutsideCore(loadDeck(flat, {"target.standoff_m=0.16"})).size(), 1u);
+  // the mesh as built: at 20 mm the core's top falls on z = 0.16 m (whole cells from z = 0), so a
+  // plate there sits on core cells; a flat "V" (180 degrees) is a flat plate
+  EXPECT_TRUE(targetOutsideCore(loadDeck(flat, {"target.standoff_m=0.16", "mesh.cell_size_m=0.02"})).empty());
+  EXPECT_TRUE(targetOutsideCore(loadDeck(path, {"mesh.core_top_m=0.35", "target.apex_angle_deg=180", "target.standoff_m=0.35"})).empty());
 }
 
 // The free-air blast row of `ejecta verify` restates how a run is set up (it sits below the
