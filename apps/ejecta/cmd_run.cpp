@@ -30,6 +30,7 @@ struct RunCliOptions {
   std::vector<std::string> sets;
   std::string checkpoint_at;
   std::string checkpoint_every_min;
+  std::string log_every_min;
   std::string restart;
   bool quiet = false;
   bool plot = true;
@@ -65,6 +66,11 @@ int runRun(const RunCliOptions& o) {
     const double minutes = parseNumber("checkpoint-every", o.checkpoint_every_min);
     if (!(minutes > 0.0 && minutes < 1e6)) throw InputError("checkpoint-every", fmt::format("{:g} min is out of range; valid (0, 1e6) min", minutes));
     ro.checkpoint_every_s = 60.0 * minutes;
+  }
+  if (!o.log_every_min.empty()) {
+    const double minutes = parseNumber("log-every", o.log_every_min);
+    if (!(minutes > 0.0 && minutes < 1e6)) throw InputError("log-every", fmt::format("{:g} min is out of range; valid (0, 1e6) min", minutes));
+    ro.log_progress_every_s = 60.0 * minutes;
   }
   ro.restart = o.restart;
   ro.progress = !o.quiet;
@@ -117,6 +123,9 @@ Action addRunCommand(CLI::App& app) {
   sub->add_option("--help-deck", o->help_deck, "Print every deck key (type, unit, valid range, default, meaning) and exit; FORMAT text or markdown")
       ->expected(0, 1)
       ->default_str("text");
+  sub->add_option("--log-every", o->log_every_min,
+                  "Also say the run's time, steps and time left every MIN minutes, as a plain line (for a batch job's log,\n"
+                  "with --quiet: the progress line rewrites itself in place)");
   sub->add_flag("--quiet", o->quiet, "No progress lines");
   sub->add_flag("!--no-plot", o->plot, "Skip plots.png");
   return [sub, o]() -> int {

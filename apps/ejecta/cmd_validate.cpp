@@ -124,6 +124,7 @@ int runValidate(const ValidateOptions& o) {
         scenario::RunOptions ro;
         ro.out_dir = (work / c.id).string();
         ro.progress = false;
+        ro.log_progress_every_s = 300.0;   // a 3D case runs for half an hour: say how far it is
         ro.plot = false;
         ro.checkpoint_every_s = 60.0 * o.checkpoint_every_min;
         ro.log = [&lock, id = c.id](const std::string& m) {

@@ -512,7 +512,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     return std::nan("");
   };
   const auto t_wall0 = std::chrono::steady_clock::now();
-  auto last_progress = t_wall0;
+  auto last_progress = t_wall0, last_logged = t_wall0;
   const double t_end = deck.end_time_s;
   const double h_interval = deck.output.history_interval_s;
   auto& ts = st.target;
@@ -839,14 +839,23 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
     }
     if (opt.checkpoint_at_s > 0.0 && !st.checkpoint_written && t >= opt.checkpoint_at_s * (1.0 - 1e-12)) writeCheckpoint();
     const auto now = std::chrono::steady_clock::now();
-    if (opt.progress && writer && std::chrono::duration<double>(now - last_progress).count() > 2.0) {
-      last_progress = now;
+    const bool show = opt.progress && std::chrono::duration<double>(now - last_progress).count() > 2.0;
+    const bool tell = opt.log_progress_every_s > 0.0 && std::chrono::duration<double>(now - last_logged).count() > opt.log_progress_every_s;
+    if (writer && (show || tell)) {
       const double wall = std::chrono::duration<double>(now - t_wall0).count();
       // by the stepping's own pace (a restart starts at the checkpoint's time, a mapped run after the early time)
       const double stepped = std::chrono::duration<double>(now - t_step0).count();
       const double left = t > t_step_from ? stepped * (t_end - t) / (t - t_step_from) : 0.0;
-      std::fprintf(stderr, "t = %.4g ms / %.4g ms, step %lld, dt %.3g s, %zu cells, wall %.1f s, left ~%.0f s, impulse %.1f N s\n", t * 1e3,
-                   t_end * 1e3, static_cast<long long>(rs->stats().steps), dt, g.interiorCells(), wall, left, ts.impulse);
+      if (show) {
+        last_progress = now;
+        std::fprintf(stderr, "t = %.4g ms / %.4g ms, step %lld, dt %.3g s, %zu cells, wall %.1f s, left ~%.0f s, impulse %.1f N s\n", t * 1e3,
+                     t_end * 1e3, static_cast<long long>(rs->stats().steps), dt, g.interiorCells(), wall, left, ts.impulse);
+      }
+      if (tell) {
+        last_logged = now;
+        say(fmt::format("t = {:.4g} ms of {:.4g} ms, step {}, wall {:.1f} min, left ~{:.1f} min, impulse {:.1f} N s", t * 1e3, t_end * 1e3,
+                        rs->stats().steps, wall / 60.0, left / 60.0, ts.impulse));
+      }
     }
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_wall0).count();

@@ -24,6 +24,9 @@ struct RunOptions {
   double checkpoint_every_s = 0.0;
   std::string restart;             // continue from this checkpoint
   bool progress = true;            // progress lines on stderr
+  // Every this many seconds of wall time, a line through `log` with the run's time, steps and time
+  // left (0: none): a study's cases, whose progress lines are off, still say how far they are.
+  double log_progress_every_s = 0.0;
   bool plot = true;
   std::function<void(const std::string&)> log;
   // MPI ranks (more than one): every rank runs the early time and builds and steps only its slab of

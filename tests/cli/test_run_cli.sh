@@ -43,6 +43,12 @@ import json
 assert len(json.load(open(\"high/summary.json\"))[\"mesh_warnings\"]) == 1
 assert json.load(open(\"a/summary.json\"))[\"mesh_warnings\"] == []'"
 
+# A batch job's log: --quiet drops the self-rewriting line, --log-every says the progress as plain lines.
+"$ejecta" run "${common[@]}" --log-every 0.00001 --no-plot --out logged > /dev/null 2> logged.err
+check "--log-every: plain progress lines with the time left" "grep -q '^run: t = .* ms of 0.6 ms, step [0-9]*, wall .* min, left ~.* min, impulse' logged.err"
+err=$("$ejecta" run "${common[@]}" --log-every -1 --out bad-log 2>&1 >/dev/null); rc=$?
+check "--log-every -1: refused, naming the option (rc $rc)" "[[ $rc -ne 0 && \"\$err\" == *log-every* && ! -e bad-log ]]"
+
 # Output times the early time ran past (its block is not the run mesh) are taken at the map time,
 # said so, and recorded at that time (they stopped the run with a negative time step before).
 "$ejecta" run "${common[@]}" --set 'output.field_times_s=[0.000001,0.0004]' --set 'output.profile_times_s=[0.000001,0.0005]' --no-plot \
