@@ -50,6 +50,17 @@ parallel::Slab rankSlab(const mesh::Grid& whole, int rank, int ranks) {
   return parallel::slabs(whole.cells(0), ranks)[static_cast<std::size_t>(rank)];
 }
 
+namespace {
+// The run mesh's graded axes as the deck lays them: across (r, or x and y in 3D) and up, the soil
+// surface (z = 0) a face at every cell size.
+mesh::Axis acrossAxis(const MeshSpec& m) { return mesh::Axis::graded(0.0, m.domain_radius_m, 0.0, m.core_radius_m, m.cell_size_m, m.grading); }
+mesh::Axis upAxis(const MeshSpec& m) {
+  return mesh::Axis::graded(m.domain_bottom_m, m.domain_top_m, m.core_bottom_m, m.core_top_m, m.cell_size_m, m.grading, 0.0);
+}
+// A V's wing rises this much per unit of |y| (its ridge along x, keel down); 0 for a flat target.
+double wingRise(const TargetSpec& t) { return t.kind == "v" ? 1.0 / std::tan(0.5 * t.apex_angle_deg * M_PI / 180.0) : 0.0; }
+}  // namespace
+
 std::vector<std::string> targetOutsideCore(const Deck& deck) {
   std::vector<std::string> out;
   const auto& t = deck.target;
@@ -57,8 +68,7 @@ std::vector<std::string> targetOutsideCore(const Deck& deck) {
   const auto& m = deck.mesh;
   const double h = m.cell_size_m;
   // the loaded face: its lowest point at the standoff; a V's wings rise across its half-width
-  const bool v = t.kind == "v";
-  const double z_lo = t.standoff_m, z_hi = t.standoff_m + (v ? t.half_width_m / std::tan(0.5 * t.apex_angle_deg * M_PI / 180.0) : 0.0);
+  const double z_lo = t.standoff_m, z_hi = t.standoff_m + t.half_width_m * wingRise(t);
   const bool round = t.kind == "disc" || t.kind == "annulus";
   const double reach = round ? t.radius_m : std::max(t.half_length_m, t.half_width_m);
   // The built mesh's cells (as buildCase lays them: the core's ends fall on whole cells, so up to
@@ -75,13 +85,11 @@ std::vector<std::string> targetOutsideCore(const Deck& deck) {
     return widest > narrowest * (1.0 + 1e-6) ? widest : 0.0;
   };
   // the flow cells under the face: from a cell below its lowest point to its highest
-  const auto z = mesh::Axis::graded(m.domain_bottom_m, m.domain_top_m, m.core_bottom_m, m.core_top_m, h, m.grading, 0.0);
-  if (const double w = coarser(z, z_lo - h, z_hi); w > 0.0)
+  if (const double w = coarser(upAxis(m), z_lo - h, z_hi); w > 0.0)
     out.push_back(fmt::format("mesh.core_top_m: the target's loaded face reaches z = {:.3f} m, above the uniform core's top ({:g} m), "
                               "where its cells grow to {:.3g} mm against mesh.cell_size_m = {:.3g} mm; raise mesh.core_top_m to at least {:.3f} m",
                               z_hi, m.core_top_m, 1e3 * w, 1e3 * h, z_hi + h));
-  const auto r = mesh::Axis::graded(0.0, m.domain_radius_m, 0.0, m.core_radius_m, h, m.grading);
-  if (const double w = coarser(r, 0.0, reach); w > 0.0)
+  if (const double w = coarser(acrossAxis(m), 0.0, reach); w > 0.0)
     out.push_back(fmt::format("mesh.core_radius_m: the target reaches {:.3f} m {}, past the uniform core ({:g} m), "
                               "where its cells grow to {:.3g} mm against mesh.cell_size_m = {:.3g} mm; raise mesh.core_radius_m to at least {:.3f} m",
                               reach, round ? "from the axis" : "along x or y", m.core_radius_m, 1e3 * w, 1e3 * h, reach + h));
@@ -90,12 +98,8 @@ std::vector<std::string> targetOutsideCore(const Deck& deck) {
 
 Case buildCase(const Deck& deck, const FineBlock* block, const RankPart* part, bool paint) {
   const auto& m = deck.mesh;
-  const double h = m.cell_size_m;
-  const mesh::Axis r_axis = block ? mesh::Axis::uniform(0.0, block->r_max_m, block->run_cells_r * block->ratio)
-                                  : mesh::Axis::graded(0.0, m.domain_radius_m, 0.0, m.core_radius_m, h, m.grading);
-  // the soil surface (z = 0), where a plate at zero standoff rests, is a face at every cell size
-  const mesh::Axis z_axis = block ? mesh::Axis::uniform(block->z_lo_m, block->z_hi_m, block->run_cells_z * block->ratio)
-                                  : mesh::Axis::graded(m.domain_bottom_m, m.domain_top_m, m.core_bottom_m, m.core_top_m, h, m.grading, 0.0);
+  const mesh::Axis r_axis = block ? mesh::Axis::uniform(0.0, block->r_max_m, block->run_cells_r * block->ratio) : acrossAxis(m);
+  const mesh::Axis z_axis = block ? mesh::Axis::uniform(block->z_lo_m, block->z_hi_m, block->run_cells_z * block->ratio) : upAxis(m);
   Case cs;
   cs.charge = chargeGeometry(deck.charge);
   const double r_in = block ? block->r_max_m : m.core_radius_m, z_in = block ? block->z_lo_m : m.core_bottom_m;
@@ -195,7 +199,7 @@ Case buildCase(const Deck& deck, const FineBlock* block, const RankPart* part, b
       // rectangle, or a V whose ridge runs along x with its keel down: each wing rises at
       // (90 - apex/2) degrees; thickness measured across the wing.
       const double hl = t.half_length_m, hw = t.half_width_m;
-      const double rise = t.kind == "v" ? 1.0 / std::tan(0.5 * t.apex_angle_deg * M_PI / 180.0) : 0.0;
+      const double rise = wingRise(t);
       const double thick = t.kind == "v" ? t.thickness_m / std::sin(0.5 * t.apex_angle_deg * M_PI / 180.0) : t.thickness_m;
       p.area_m2 = 4.0 * hl * hw;
       p.r_outer_m = std::hypot(hl, hw);
