@@ -158,20 +158,11 @@ void nearWallShares(const Pencil& P, const SweepSetup& S, int from, int step, do
 // or +1 (above) along the pencil: `total` (N s along `comp`, into impulse_total) and `imp` (the
 // same against the reference pressure) by the material in the cell and by the materials within
 // each of kNearWallDepth_m; `cell_only`: the cell's own fractions at every depth.
-static void bookLoadByMaterial(const Pencil& P, const SweepSetup& S, int fluid, int step, std::size_t comp, double total, double imp,
-                               bool cell_only, PencilLedger& ledger) {
+// Books one load increment: `total` (N s along `comp`) and its split by the pencil's materials,
+// beside the face (`by_mat`) and within each of kNearWallDepth_m (`near`).
+static void bookLoad(const Pencil& P, const SweepSetup& S, std::size_t comp, double total, const double* by_mat,
+                     const double (*near)[kMaxMaterials], PencilLedger& ledger) {
   const int M = P.M;
-  double by_mat[kMaxMaterials], near[kNearWallDepths][kMaxMaterials];
-  for (int k = 0; k < M; ++k) by_mat[k] = imp * P.a[P.at(k, fluid)];
-  double share[kMaxMaterials];
-  for (int l = 0; l < kNearWallDepths; ++l) {
-    if (cell_only) {
-      for (int k = 0; k < M; ++k) near[l][k] = by_mat[k];
-      continue;
-    }
-    nearWallShares(P, S, fluid, -step, kNearWallDepth_m[static_cast<std::size_t>(l)], share);
-    for (int k = 0; k < M; ++k) near[l][k] = imp * share[k];
-  }
   // booked by the run's material index (the pencil may carry only some of the run's materials)
   ledger.impulse_total[comp] += total;
   for (int k = 0; k < M; ++k) {
@@ -199,6 +190,50 @@ static void bookLoadByMaterial(const Pencil& P, const SweepSetup& S, int fluid, 
     for (int l = 0; l < kNearWallDepths; ++l)
       for (int q = 0; q < Mr; ++q) e.push_back(near_row[l][q]);
   }
+}
+
+// Books a normal load on the body at the face beside fluid cell `fluid`, the body lying `step` = -1
+// (below) or +1 (above) along the pencil: `total` (N s along `comp`, into impulse_total) and `imp`
+// (the same against the reference pressure) by the material in the cell and by the materials within
+// each of kNearWallDepth_m; `cell_only`: the cell's own fractions at every depth.
+static void bookLoadByMaterial(const Pencil& P, const SweepSetup& S, int fluid, int step, std::size_t comp, double total, double imp,
+                               bool cell_only, PencilLedger& ledger) {
+  const int M = P.M;
+  double by_mat[kMaxMaterials], near[kNearWallDepths][kMaxMaterials];
+  for (int k = 0; k < M; ++k) by_mat[k] = imp * P.a[P.at(k, fluid)];
+  double share[kMaxMaterials];
+  for (int l = 0; l < kNearWallDepths; ++l) {
+    if (cell_only) {
+      for (int k = 0; k < M; ++k) near[l][k] = by_mat[k];
+      continue;
+    }
+    nearWallShares(P, S, fluid, -step, kNearWallDepth_m[static_cast<std::size_t>(l)], share);
+    for (int k = 0; k < M; ++k) near[l][k] = imp * share[k];
+  }
+  bookLoad(P, S, comp, total, by_mat, near, ledger);
+}
+
+// Books the friction `taken` (N s along `comp`) at the face beside cell `cell`: all of it to the
+// materials with strength there, by their volume (`held`, their fractions' sum, frictionGrip), at
+// every depth: friction is a traction at the face, not a layer's.
+static void bookFriction(const Pencil& P, const SweepSetup& S, int cell, std::size_t comp, double taken, double held, PencilLedger& ledger) {
+  const int M = P.M;
+  double by_mat[kMaxMaterials], near[kNearWallDepths][kMaxMaterials];
+  for (int k = 0; k < M; ++k) by_mat[k] = P.strengthless[k] ? 0.0 : taken * (P.a[P.at(k, cell)] / held);
+  for (int l = 0; l < kNearWallDepths; ++l)
+    for (int k = 0; k < M; ++k) near[l][k] = by_mat[k];
+  bookLoad(P, S, comp, taken, by_mat, near, ledger);
+}
+
+// The share of a contact at a face of cell `cell` held by materials that carry a shear stress (sand):
+// the sum of their volume fractions (the caller caps it at 1). A gas, the products or water carries no shear stress
+// in this model and cannot transmit a tangential traction to the plate, so a Coulomb coefficient
+// measured for soil on steel does not apply to it.
+static double frictionGrip(const Pencil& P, int cell) {
+  double grip = 0.0;
+  for (int k = 0; k < P.M; ++k)
+    if (!P.strengthless[k]) grip += P.a[P.at(k, cell)];
+  return grip;
 }
 
 // van Leer-limited slopes of u and p in cells 1 .. N-2 (computeSlopes): restrict-qualified, so that
@@ -570,29 +605,34 @@ template <int D, bool Walls, bool Friction>
       const double ur = 0.5 * (ut[i] + ut[i + 1]), ul = 0.5 * (ut[i - 1] + ut[i]);
       mom_new[comp] = m * ut[i] + dt * (Ar * tr - Al * tl);
       E += dt * (Ar * tr * ur - Al * tl * ul);
-      if constexpr (Friction) {
-        // Coulomb friction on the body's face: mu times the compressive normal stress, opposing
-        // the sliding, never reversing it within a step. The body gains the momentum the flow
-        // loses and the work at its own velocity; the rest of the kinetic energy removed stays in
-        // the cell's total energy, i.e. becomes heat.
-        const double pn = std::max(solid[i + 1] ? pstar[fr] : 0.0, 0.0) * Ar + std::max(solid[i - 1] ? pstar[i] : 0.0, 0.0) * Al;
-        constexpr auto cu = static_cast<std::size_t>(comp);
-        const double slide = mom_new[comp] - m * S->wall_velocity[cu];
-        const double taken = std::copysign(std::min(S->friction * pn * dt, std::abs(slide)), slide);
-        mom_new[comp] -= taken;
-        const double w_body = taken * S->wall_velocity[cu];
-        E -= w_body;
-        if (interior) {
-          ledger->target_work += w_body;
-          // the friction by the cell's own fractions at every depth along axis 0 (a layer there could
-          // reach past a slab's ghosts) and between two body faces (there is no layer)
-          const bool cell_only = D == 0 || (solid[i - 1] && solid[i + 1]);
-          bookLoadByMaterial(*P, *S, static_cast<int>(i), solid[i + 1] ? 1 : -1, cu, taken, taken, cell_only, *ledger);
-        }
-      }
     };
     transverse(std::integral_constant<int, T1>{}, sh0);
     transverse(std::integral_constant<int, T2>{}, sh1);
+    if constexpr (Friction) {
+      // Coulomb friction on the body's face: mu times the compressive normal stress on the part of
+      // the contact held by materials with strength (frictionGrip: a gas slides freely), against
+      // the sliding in the face's plane (both transverse components at once: a diagonal slide takes
+      // mu p, not sqrt(2) mu p), never reversing it within a step. The body gains the momentum the
+      // flow loses and the work at its own velocity; the rest of the kinetic energy removed stays in
+      // the cell's total energy, i.e. becomes heat.
+      const double held = frictionGrip(*P, static_cast<int>(i)), grip = std::min(held, 1.0);
+      const double pn = std::max(solid[i + 1] ? pstar[fr] : 0.0, 0.0) * Ar + std::max(solid[i - 1] ? pstar[i] : 0.0, 0.0) * Al;
+      const double s1 = mom_new[T1] - m * S->wall_velocity[T1], s2 = mom_new[T2] - m * S->wall_velocity[T2];
+      const double slide = std::hypot(s1, s2);
+      if (grip > 0.0 && slide > 0.0) {
+        const double f = std::min(S->friction * grip * pn * dt, slide) / slide;
+        const double taken[2] = {f * s1, f * s2};
+        mom_new[T1] -= taken[0];
+        mom_new[T2] -= taken[1];
+        const double w_body = taken[0] * S->wall_velocity[T1] + taken[1] * S->wall_velocity[T2];
+        E -= w_body;
+        if (interior) {
+          ledger->target_work += w_body;
+          for (int c = 0; c < 2; ++c)
+            if (taken[c] != 0.0) bookFriction(*P, *S, static_cast<int>(i), static_cast<std::size_t>(c == 0 ? T1 : T2), taken[c], held, *ledger);
+        }
+      }
+    }
     const double inv_m = 1.0 / m;
     double ke1 = 0.0;
     ke1 += 0.5 * mom_new[0] * mom_new[0] * inv_m;

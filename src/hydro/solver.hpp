@@ -54,9 +54,13 @@ struct DetonationPoint {
 // (Pencil::Kp), an r-sweep's with the whole dilatation, and the hoop stress to the same half step).
 // 11: the sand's shear modulus follows the effective pressure now (was: the largest compaction
 // seen) and is bounded by a Poisson's ratio of 0.22 on the unloading bulk modulus (docs/sand-model.md).
+// 12: the body's Coulomb friction acts on the share of the contact held by materials with strength
+// (the sand), not on gas, products or water, which carry no shear stress; it opposes the slide in
+// the face's plane as one traction (was: each transverse component alone); its load by material is
+// booked to the sand, by the cell beside the face at every depth (docs/run.md, The plate).
 // `ejecta validate --reuse` reruns a case saved by another revision; a checkpoint of another
 // revision is refused (its energy books differ in layout too).
-inline constexpr int kSolverRevision = 11;
+inline constexpr int kSolverRevision = 12;
 
 struct SolverOptions {
   double cfl = 0.45;                     // - Courant number of each sweep
@@ -69,7 +73,7 @@ struct SolverOptions {
   double max_dt = 1.0;                   // s
   double min_dt = 1e-14;                 // s: below this the step has collapsed and the run stops
   double initial_dt_fraction = 0.1;      // first step = this fraction of the CFL step
-  double body_friction = 0.0;            // - Coulomb coefficient between the flow and the body
+  double body_friction = 0.0;            // - Coulomb coefficient between the sand and the body (gas slides freely)
   double load_reference_pressure = 0.0;  // Pa: the body's load by material is booked against it (ambient)
   // Every pencil carries every material, not only those present in it (Pencil::mat): the same
   // result to the bit, slower; kept so that a test can hold the two against each other.

@@ -167,7 +167,7 @@ std::vector<Key> makeKeys() {
       flag("target", "move_mesh", in<&Deck::target, &TargetSpec::move_mesh>,
            "a free plate moves through the mesh: the mesh from mesh.core_bottom_m up to the plate stretches with it and the mesh above it "
            "closes up (docs/run.md); false: its cells stay where they started and its velocity enters the wall condition only"),
-      number("target", "friction", in<&Deck::target, &TargetSpec::friction>, "-", {0.0, 2.0}, "Coulomb coefficient between the plate and the flow (soil, gas); the EMI decks use 0.2"),
+      number("target", "friction", in<&Deck::target, &TargetSpec::friction>, "-", {0.0, 2.0}, "Coulomb coefficient between the plate and the soil (it acts on the soil's share of the contact; gas, products and water slide freely); the EMI decks use 0.2"),
       number("target", "half_length_m", in<&Deck::target, &TargetSpec::half_length_m>, "m", {0.0, 100.0, true},
              "rectangle and V: half extent along x (the V's ridge), at most mesh.domain_radius_m"),
       number("target", "half_width_m", in<&Deck::target, &TargetSpec::half_width_m>, "m", {0.0, 100.0, true},

@@ -60,7 +60,7 @@ struct TargetSpec {
   double mass_kg = 300.0;
   std::string motion = "free";        // free (load and gravity) or fixed
   bool move_mesh = true;              // free: the plate moves through the mesh (ALE); false: its cells stay put
-  double friction = 0.0;              // - Coulomb coefficient, plate against soil and gas
+  double friction = 0.0;              // - Coulomb coefficient, plate against soil (gas slides freely)
   double half_length_m = 0.4;         // rectangle and V: half extent along x (the V's ridge), m
   double half_width_m = 0.4;          // rectangle and V: half extent along y, m
   double apex_angle_deg = 120.0;      // V: angle between its two wings (180 = flat), degrees

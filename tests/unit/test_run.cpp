@@ -158,35 +158,106 @@ TEST(Coupling, AUniformFlowStaysUniformOnTheMovingMesh) {
   EXPECT_NEAR(s.lastBodyImpulse()[1], 0.0, 1e-9 * p);   // the flow presses equally on its top and bottom
 }
 
-TEST(Coupling, FrictionTakesMuTimesTheNormalLoadFromTheSlidingFlow) {
+// A flow sliding under a plate (wall faces at y = 0.9): air everywhere, and in the row of cells
+// beside the plate (0.85 < y < 0.90) sand filling the fraction `sand` of each cell's height. The air
+// is at `p_air` (Pa; 0: the sand's pressure, so that a mixed cell is at rest in its closure and the
+// sand's fraction stays what was painted until the sweep across the plate).
+static hydro::Solver slidingUnderAPlate(double sand, double body_u, double p_air = 0.0) {
   hydro::SolverOptions o;
   for (auto& b : o.boundary) b = {BoundaryKind::Periodic, BoundaryKind::Periodic};
   o.boundary[1] = {BoundaryKind::Reflect, BoundaryKind::Reflect};
   o.body_friction = 0.2;
-  const double p = 1e5, rho = 1.2, u = 10.0;
-  hydro::Solver s(mesh::Grid(2, mesh::Geometry::Cartesian, {Axis::uniform(0.0, 1.0, 20), Axis::uniform(0.0, 1.0, 20), Axis{}}), {materials::air()}, o);
-  s.paint(0, [](const Vec3&) { return true; }, rho, p / (0.4 * rho), {u, 0.0, 0.0});
-  s.setBody([](const Vec3& x) { return x[1] > 0.9; });   // a plate over the flow, wall faces at y = 0.9
-  const auto a = s.totals();
-  const double dt = 0.2 * s.stableTimeStep();
-  s.step(dt);
-  const auto b = s.totals();
-  // one wall face per column, 1 m wide in total, normal stress p (no normal velocity)
-  EXPECT_NEAR((a.momentum[0] - b.momentum[0]) / (0.2 * p * 1.0 * dt), 1.0, 1e-6);
-  EXPECT_NEAR(b.total() / a.total(), 1.0, 1e-12);   // the lost kinetic energy became heat
-  // the body gains exactly the momentum the flow loses (the target stays momentum-exact)
-  EXPECT_NEAR(s.lastBodyImpulse()[0], a.momentum[0] - b.momentum[0], 1e-12 * a.momentum[0]);
+  const auto soil = materials::sand(materials::SandInputs::fromWetDensity(1500.0, 0.1), "sand");
+  hydro::Solver s(mesh::Grid(2, mesh::Geometry::Cartesian, {Axis::uniform(0.0, 1.0, 20), Axis::uniform(0.0, 1.0, 20), Axis{}}),
+                  {materials::air(), soil}, o);
+  if (p_air <= 0.0) {
+    const auto probe = slidingUnderAPlate(1.0, 0.0, 1e5);
+    p_air = probe.pressure(probe.grid().index(0, 17, 0));
+  }
+  s.paint(0, [](const Vec3&) { return true; }, 1.2, p_air / (0.4 * 1.2), {10.0, 0.0, 0.0});
+  // compressed a little, so that the sand presses on the plate by its own pressure too
+  if (sand > 0.0) s.paint(1, [&](const Vec3& x) { return x[1] > 0.9 - 0.05 * sand; }, 1.03 * soil.referenceDensity(), 0.0, {10.0, 0.0, 0.0}, 4);
+  s.setBody([](const Vec3& x) { return x[1] > 0.9; });
+  s.setBodyVelocity({body_u, 0.0, 0.0});
+  return s;
+}
+
+// Coulomb friction is a plate-to-soil coefficient: it takes mu times the normal load on the part of
+// the contact that the sand holds (its volume fraction beside the face), and nothing from a gas,
+// which carries no shear stress. Giving it to the air too (as revision 11 did) fails the first case.
+TEST(Coupling, FrictionTakesMuTimesTheNormalLoadOnTheSandsShareOfTheContact) {
+  for (const double sand : {0.0, 0.5, 1.0}) {
+    auto s = slidingUnderAPlate(sand, 0.0);
+    const auto a = s.totals();
+    const double dt = 0.2 * s.stableTimeStep();
+    s.step(dt);
+    const auto b = s.totals();
+    const auto& J = s.lastBodyImpulse();
+    ASSERT_GT(J[1], 0.0) << sand;   // the flow pushes the plate up
+    EXPECT_NEAR(J[0] / J[1], 0.2 * sand, 1e-9) << sand;
+    // the body gains exactly the momentum the flow loses (the target stays momentum-exact) ...
+    EXPECT_NEAR(J[0], a.momentum[0] - b.momentum[0], 1e-12 * a.momentum[0]) << sand;
+    EXPECT_NEAR(b.total() / a.total(), 1.0, 1e-12) << sand;   // ... and the lost kinetic energy became heat
+    // booked to the sand: the air beside the face took none of it, at any depth
+    EXPECT_EQ(s.lastBodyImpulseByMaterial()[0][0], 0.0) << sand;
+    EXPECT_NEAR(s.lastBodyImpulseByMaterial()[1][0], J[0], 1e-12 * std::abs(J[1])) << sand;
+    for (int l = 0; l < hydro::kNearWallDepths; ++l) EXPECT_EQ(s.lastBodyImpulseNearWall(l)[0][0], 0.0) << sand << " " << l;
+  }
+}
+
+// The friction is one traction against the sliding in the face's plane: a flow sliding diagonally
+// under a plate in 3D loses mu times the normal load, against its own direction (taken component by
+// component it would lose sqrt(2) mu p on a 45 degree slide).
+TEST(Coupling, FrictionOpposesADiagonalSlideWithMuTimesTheNormalLoad) {
+  hydro::SolverOptions o;
+  for (auto& b : o.boundary) b = {BoundaryKind::Periodic, BoundaryKind::Periodic};
+  o.boundary[2] = {BoundaryKind::Reflect, BoundaryKind::Reflect};
+  o.body_friction = 0.2;
+  const auto soil = materials::sand(materials::SandInputs::fromWetDensity(1500.0, 0.1), "sand");
+  hydro::Solver s(mesh::Grid(3, mesh::Geometry::Cartesian, {Axis::uniform(0.0, 1.0, 4), Axis::uniform(0.0, 1.0, 4), Axis::uniform(0.0, 1.0, 8)}),
+                  {soil}, o);
+  const Vec3 u{6.0, 8.0, 0.0};
+  s.paint(0, [](const Vec3&) { return true; }, 1.03 * soil.referenceDensity(), 0.0, u);
+  s.setBody([](const Vec3& x) { return x[2] > 0.875; });
+  s.step(0.2 * s.stableTimeStep());
+  const auto& J = s.lastBodyImpulse();
+  ASSERT_GT(J[2], 0.0);
+  EXPECT_NEAR(std::hypot(J[0], J[1]) / J[2], 0.2, 1e-9);
+  EXPECT_NEAR(J[0] / J[1], u[0] / u[1], 1e-9);   // along the slide: the plate is dragged with the flow
+  EXPECT_GT(J[0], 0.0);
+}
+
+// The rim's case: faces normal to the first axis (r, or x in 3D), the flow sliding along them, in a
+// run of three materials whose pencils carry two (products and sand; no air is left anywhere), so a
+// pencil's material slots are not the run's indices. The friction is mu times the sand's share of
+// the normal load, booked to the sand's run index.
+TEST(Coupling, FrictionOnARimFaceIsBookedToTheSandByItsRunIndex) {
+  hydro::SolverOptions o;
+  for (auto& b : o.boundary) b = {BoundaryKind::Periodic, BoundaryKind::Periodic};
+  o.boundary[0] = {BoundaryKind::Reflect, BoundaryKind::Reflect};
+  o.body_friction = 0.2;
+  const auto soil = materials::sand(materials::SandInputs::fromWetDensity(1500.0, 0.1), "sand");
+  const auto probe = slidingUnderAPlate(1.0, 0.0, 1e5);
+  const double p_sand = probe.pressure(probe.grid().index(0, 17, 0)), gamma = 3.0, rho_products = 50.0;
+  hydro::Solver s(mesh::Grid(2, mesh::Geometry::Cartesian, {Axis::uniform(0.0, 1.0, 20), Axis::uniform(0.0, 1.0, 20), Axis{}}),
+                  {materials::air(), materials::idealGas("products", gamma), soil}, o);
+  const Vec3 u{0.0, 10.0, 0.0};
+  s.paint(0, [](const Vec3&) { return true; }, 1.2, 1e5 / (0.4 * 1.2), u);
+  s.paint(1, [](const Vec3&) { return true; }, rho_products, p_sand / ((gamma - 1.0) * rho_products), u);
+  s.paint(2, [](const Vec3& x) { return x[0] > 0.875; }, 1.03 * soil.referenceDensity(), 0.0, u, 4);   // half the column beside the wall
+  s.setBody([](const Vec3& x) { return x[0] > 0.9; });
+  s.step(0.2 * s.stableTimeStep());
+  const auto& J = s.lastBodyImpulse();
+  ASSERT_GT(J[0], 0.0);
+  EXPECT_NEAR(J[1] / J[0], 0.2 * 0.5, 1e-9);
+  const auto& by = s.lastBodyImpulseByMaterial();
+  EXPECT_EQ(by[0][1], 0.0);
+  EXPECT_EQ(by[1][1], 0.0);
+  EXPECT_NEAR(by[2][1], J[1], 1e-12 * J[0]);
 }
 
 TEST(Coupling, FrictionOnAMovingBodyBooksItsWork) {
-  hydro::SolverOptions o;
-  for (auto& b : o.boundary) b = {BoundaryKind::Periodic, BoundaryKind::Periodic};
-  o.boundary[1] = {BoundaryKind::Reflect, BoundaryKind::Reflect};
-  o.body_friction = 0.2;
-  hydro::Solver s(mesh::Grid(2, mesh::Geometry::Cartesian, {Axis::uniform(0.0, 1.0, 20), Axis::uniform(0.0, 1.0, 20), Axis{}}), {materials::air()}, o);
-  s.paint(0, [](const Vec3&) { return true; }, 1.2, 1e5 / (0.4 * 1.2), {10.0, 0.0, 0.0});
-  s.setBody([](const Vec3& x) { return x[1] > 0.9; });
-  s.setBodyVelocity({4.0, 0.0, 0.0});   // sliding along the flow, slower than it
+  auto s = slidingUnderAPlate(1.0, 4.0);   // sliding along the flow, slower than it
   const auto a = s.totals();
   s.step(0.2 * s.stableTimeStep());
   const auto b = s.totals();
