@@ -154,10 +154,6 @@ void nearWallShares(const Pencil& P, const SweepSetup& S, int from, int step, do
   }
 }
 
-// Books a load on the body at the face beside fluid cell `fluid`, the body lying `step` = -1 (below)
-// or +1 (above) along the pencil: `total` (N s along `comp`, into impulse_total) and `imp` (the
-// same against the reference pressure) by the material in the cell and by the materials within
-// each of kNearWallDepth_m; `cell_only`: the cell's own fractions at every depth.
 // Books one load increment: `total` (N s along `comp`) and its split by the pencil's materials,
 // beside the face (`by_mat`) and within each of kNearWallDepth_m (`near`).
 static void bookLoad(const Pencil& P, const SweepSetup& S, std::size_t comp, double total, const double* by_mat,
@@ -226,9 +222,9 @@ static void bookFriction(const Pencil& P, const SweepSetup& S, int cell, std::si
 }
 
 // The share of a contact at a face of cell `cell` held by materials that carry a shear stress (sand):
-// the sum of their volume fractions (the caller caps it at 1). A gas, the products or water carries no shear stress
-// in this model and cannot transmit a tangential traction to the plate, so a Coulomb coefficient
-// measured for soil on steel does not apply to it.
+// the sum of their volume fractions (the caller caps it at 1). A gas, the products or water carries
+// no shear stress in this model and cannot transmit a tangential traction to the plate, so a
+// Coulomb coefficient measured for soil on steel does not apply to it.
 static double frictionGrip(const Pencil& P, int cell) {
   double grip = 0.0;
   for (int k = 0; k < P.M; ++k)
