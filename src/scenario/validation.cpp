@@ -119,6 +119,10 @@ const std::vector<Perturbation>& perturbations() {
       {"sens-shear-law-compaction", "sand shear modulus law", "pressure now", "largest compaction seen (revision 10)",
        "soil.0.shear_modulus_law=\"compaction\"", "% for the change", 1.0},
       {"sens-min-poisson-0.1", "sand shear modulus bound (Poisson's ratio)", "0.22 (Sjobo)", "0.1", "soil.0.min_poisson_ratio=0.1", "% for the change", 1.0},
+      // the plate-to-soil Coulomb coefficient (0.2 in shared/data, not measured for this plate), which acts on the
+      // sand's share of the contact (revision 12)
+      {"sens-friction-0", "plate-to-soil friction", "0.2", "0 (frictionless)", "target.friction=0", "% per +0.1", -2.0},
+      {"sens-friction-0.4", "plate-to-soil friction", "0.2", "0.4", "target.friction=0.4", "% per +0.1", 2.0},
       // not an input of the physics: the time step at the same cells (the Courant number)
       {"sens-cfl-0.3", "time step (Courant number)", "0.45", "0.30", "cfl=0.3", "% for the change", 1.0},
   };
@@ -646,6 +650,9 @@ json validationReport(const ValidationPlan& plan, const std::map<std::string, js
                        "(its velocity only in the wall condition) takes {:+.1f}%. A free plate that moves the mesh rises away from the "
                        "load: the gap beneath it opens and the soil and products in it expand and unload, so it takes less (docs/run.md).",
                        change("sens-plate-fixed"), change("sens-plate-static-mesh")),
+           fmt::format("The plate-to-soil friction (0.2 in the EMI decks; since solver revision 12 it acts on the sand's share of the contact "
+                       "only, gas and products sliding freely): frictionless the plate takes {:+.1f}%, at 0.4 {:+.1f}%.",
+                       change("sens-friction-0"), change("sens-friction-0.4")),
            fmt::format("The time step: the shear modulus cap moves the impulse {:+.1f}% (10 GPa) and {:+.1f}% (1 GPa) and lets the step grow (the "
                        "compacted sand's longitudinal speed sets it late in the run); a smaller Courant number at the same cells moves it {:+.1f}%. "
                        "Part of the cap's change is the step's, not the sand's (docs/sand-model.md, docs/validate.md).",
