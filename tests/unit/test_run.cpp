@@ -158,16 +158,24 @@ TEST(Coupling, AUniformFlowStaysUniformOnTheMovingMesh) {
   EXPECT_NEAR(s.lastBodyImpulse()[1], 0.0, 1e-9 * p);   // the flow presses equally on its top and bottom
 }
 
+// Periodic in every direction but `wall_axis` (reflecting), with the EMI decks' friction, and the
+// sand the friction tests slide.
+static hydro::SolverOptions frictionOptions(int wall_axis) {
+  hydro::SolverOptions o;
+  for (auto& b : o.boundary) b = {BoundaryKind::Periodic, BoundaryKind::Periodic};
+  o.boundary[static_cast<std::size_t>(wall_axis)] = {BoundaryKind::Reflect, BoundaryKind::Reflect};
+  o.body_friction = 0.2;
+  return o;
+}
+static materials::Material frictionSand() { return materials::sand(materials::SandInputs::fromWetDensity(1500.0, 0.1), "sand"); }
+
 // A flow sliding under a plate (wall faces at y = 0.9): air everywhere, and in the row of cells
 // beside the plate (0.85 < y < 0.90) sand filling the fraction `sand` of each cell's height. The air
 // is at `p_air` (Pa; 0: the sand's pressure, so that a mixed cell is at rest in its closure and the
 // sand's fraction stays what was painted until the sweep across the plate).
 static hydro::Solver slidingUnderAPlate(double sand, double body_u, double p_air = 0.0) {
-  hydro::SolverOptions o;
-  for (auto& b : o.boundary) b = {BoundaryKind::Periodic, BoundaryKind::Periodic};
-  o.boundary[1] = {BoundaryKind::Reflect, BoundaryKind::Reflect};
-  o.body_friction = 0.2;
-  const auto soil = materials::sand(materials::SandInputs::fromWetDensity(1500.0, 0.1), "sand");
+  const auto o = frictionOptions(1);
+  const auto soil = frictionSand();
   hydro::Solver s(mesh::Grid(2, mesh::Geometry::Cartesian, {Axis::uniform(0.0, 1.0, 20), Axis::uniform(0.0, 1.0, 20), Axis{}}),
                   {materials::air(), soil}, o);
   if (p_air <= 0.0) {
@@ -209,11 +217,8 @@ TEST(Coupling, FrictionTakesMuTimesTheNormalLoadOnTheSandsShareOfTheContact) {
 // under a plate in 3D loses mu times the normal load, against its own direction (taken component by
 // component it would lose sqrt(2) mu p on a 45 degree slide).
 TEST(Coupling, FrictionOpposesADiagonalSlideWithMuTimesTheNormalLoad) {
-  hydro::SolverOptions o;
-  for (auto& b : o.boundary) b = {BoundaryKind::Periodic, BoundaryKind::Periodic};
-  o.boundary[2] = {BoundaryKind::Reflect, BoundaryKind::Reflect};
-  o.body_friction = 0.2;
-  const auto soil = materials::sand(materials::SandInputs::fromWetDensity(1500.0, 0.1), "sand");
+  const auto o = frictionOptions(2);
+  const auto soil = frictionSand();
   hydro::Solver s(mesh::Grid(3, mesh::Geometry::Cartesian, {Axis::uniform(0.0, 1.0, 4), Axis::uniform(0.0, 1.0, 4), Axis::uniform(0.0, 1.0, 8)}),
                   {soil}, o);
   const Vec3 u{6.0, 8.0, 0.0};
@@ -232,11 +237,8 @@ TEST(Coupling, FrictionOpposesADiagonalSlideWithMuTimesTheNormalLoad) {
 // pencil's material slots are not the run's indices. The friction is mu times the sand's share of
 // the normal load, booked to the sand's run index.
 TEST(Coupling, FrictionOnARimFaceIsBookedToTheSandByItsRunIndex) {
-  hydro::SolverOptions o;
-  for (auto& b : o.boundary) b = {BoundaryKind::Periodic, BoundaryKind::Periodic};
-  o.boundary[0] = {BoundaryKind::Reflect, BoundaryKind::Reflect};
-  o.body_friction = 0.2;
-  const auto soil = materials::sand(materials::SandInputs::fromWetDensity(1500.0, 0.1), "sand");
+  const auto o = frictionOptions(0);
+  const auto soil = frictionSand();
   const auto probe = slidingUnderAPlate(1.0, 0.0, 1e5);
   const double p_sand = probe.pressure(probe.grid().index(0, 17, 0)), gamma = 3.0, rho_products = 50.0;
   hydro::Solver s(mesh::Grid(2, mesh::Geometry::Cartesian, {Axis::uniform(0.0, 1.0, 20), Axis::uniform(0.0, 1.0, 20), Axis{}}),
