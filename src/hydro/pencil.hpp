@@ -32,7 +32,9 @@ struct Pencil {
   // The body's load is booked by the run's index.
   int mat[kMaxMaterials] = {};
   // A material without strength (gas, products, water) carries no deviatoric stress: its stress
-  // (`s`) and stress fluxes (`fs`) are neither written nor read. False (the default) carries them.
+  // (`s`) and stress fluxes (`fs`) are neither written nor read, and the body's friction does not act
+  // on its share of a contact. False (the default) carries them and grips (Solver::selectMaterials
+  // sets it for every pencil of a run).
   bool strengthless[kMaxMaterials] = {};
   bool radial = false;       // axisymmetric or spherical r-sweep: swept volumes are annuli or shells
   bool spherical = false;    // spherical r-sweep: volumes r^3 / 3 per steradian
