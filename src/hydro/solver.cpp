@@ -370,16 +370,21 @@ Totals Solver::totalsOf(const std::vector<double>& columns) const {
 
 Totals Solver::totals() const { return totalsOf(columnTotals()); }
 
-// The signal speed of one cell: the mixture's (volume-averaged stiffness over mixture density),
-// and each material's own where it holds at least 1% of the cell's mass. A nearly massless
-// material's own sound speed (a hot, rarefied film of air in the products; products expanded into
-// a void that the sand opened in tension: 1e5 to 1e7 m/s) does not govern stability: its volume
-// follows the cell's, and no wave runs inside it.
+// The signal speed of one cell: the frozen mixture's, sum(alpha_k K_k) / rho_mix (Voigt; K with
+// 4/3 G for a material with strength), which is sum(Y_k c_k^2) over the mass fractions Y_k: the
+// speed at which a wave crosses the cell before its pressures relax. The faces' acoustic solve
+// (impedance sqrt(rho_mix sum alpha_k K_k), bulk only) is bounded by it; the predictor's Reuss
+// stiffness is never above it; the closure shares the cell's volume change by compressibility, so a
+// stiff minority strains K_Reuss / K_k times as much as the cell, and no wave runs inside it.
+// Revision 13: no material's own speed counts beside it (until then each one's did where it held
+// 1% of the cell's mass, and a dust of sand in thin products set the V-plates' late steps at the
+// sand's own 3.2 km/s; docs/solver.md, "Revision 13: the step of a mixed cell"). A material's own
+// speed is at most 1/sqrt(Y_k) times the mixture's.
 static double cellSignalSpeed2(const std::vector<materials::Material>& mats, const std::vector<MaterialFields>& fields, std::size_t c) {
-  double c2 = 0.0, kv = 0.0, rho_mix = 0.0;
-  for (const auto& f : fields) rho_mix += f.alpha[c] * f.rho[c];
+  double kv = 0.0, rho_mix = 0.0;
   for (std::size_t q = 0; q < fields.size(); ++q) {
     const auto& f = fields[q];
+    rho_mix += f.alpha[c] * f.rho[c];
     if (f.alpha[c] <= kAlphaMin) continue;
     const auto st = materials::evaluateEos(mats[q], f.rho[c], f.e[c], f.h0[c]);
     double kk = st.bulk;
@@ -387,9 +392,8 @@ static double cellSignalSpeed2(const std::vector<materials::Material>& mats, con
       kk += 4.0 / 3.0 * materials::shearModulus(mats[q], f.h0[c], st.pressure);
     }
     kv += f.alpha[c] * kk;
-    if (f.alpha[c] * f.rho[c] >= 0.01 * rho_mix) c2 = std::max(c2, kk / f.rho[c]);
   }
-  return std::max(c2, kv / rho_mix);
+  return kv / rho_mix;
 }
 
 double Solver::stableTimeStep() const {

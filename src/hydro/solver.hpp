@@ -58,9 +58,12 @@ struct DetonationPoint {
 // (the sand), not on gas, products or water, which carry no shear stress; it opposes the slide in
 // the face's plane as one traction (was: each transverse component alone); its load by material is
 // booked to the sand, by the cell beside the face at every depth (docs/run.md, The plate).
+// 13: the time step takes a cell's frozen (Voigt) mixture speed alone; a material's own speed no
+// longer counts where it holds 1% of the cell's mass (docs/solver.md, "Revision 13: the step of a
+// mixed cell").
 // `ejecta validate --reuse` reruns a case saved by another revision; a checkpoint of another
 // revision is refused (its energy books differ in layout too).
-inline constexpr int kSolverRevision = 12;
+inline constexpr int kSolverRevision = 13;
 
 struct SolverOptions {
   double cfl = 0.45;                     // - Courant number of each sweep
