@@ -182,6 +182,19 @@ TEST(Solver, FragmentsBelowTheCutAreFoldedIntoTheCellsOtherMaterials) {
   for (int i = 0; i < 8; ++i) EXPECT_EQ(s.velocity(0)[g.index(i, 0, 0)], 0.0);
 }
 
+// Water at reference density (1000 kg/m3, e = 0) as a dust of `frac` of the volume of cells
+// [first, last) of a 1D run whose material 0 is a gas and material 1 water.
+static void addWaterDust(hydro::Solver& s, int first, int last, double frac) {
+  auto& W = s.fieldForSetup(1);
+  for (int i = first; i < last; ++i) {
+    const std::size_t c = s.grid().index(i, 0, 0);
+    W.alpha[c] = frac;
+    W.rho[c] = 1000.0;
+    W.e[c] = 0.0;
+    s.fieldForSetup(0).alpha[c] = 1.0 - frac;
+  }
+}
+
 // The step is set by each cell's frozen mixture speed, sqrt(sum alpha_k K_k / rho_mix) (revision
 // 13): a dust of water in thin gas (1e-4 of the volume, 17% of the mass) no longer imposes its own
 // 1.5 km/s on the cell. Every cell holds the same mixture at rest, so the step is the formula's.
@@ -192,14 +205,7 @@ TEST(Solver, TimeStepTakesTheFrozenMixtureSpeedNotADustsOwn) {
   hydro::Solver s(mesh::Grid(1, mesh::Geometry::Cartesian, {Axis::uniform(0.0, 1.0, 4), Axis{}, Axis{}}), {gas, dust}, o);
   const double rho_g = 0.5, e_g = 1e5 / (0.4 * rho_g), frac = 1e-4;   // the gas at 0.1 MPa
   s.paint(0, [](const Vec3&) { return true; }, rho_g, e_g);
-  auto& W = s.fieldForSetup(1);
-  for (int i = 0; i < 4; ++i) {
-    const std::size_t c = s.grid().index(i, 0, 0);
-    W.alpha[c] = frac;
-    W.rho[c] = 1000.0;
-    W.e[c] = 0.0;
-    s.fieldForSetup(0).alpha[c] = 1.0 - frac;
-  }
+  addWaterDust(s, 0, 4, frac);
   const auto g_st = materials::evaluateEos(gas, rho_g, e_g, 0.0);
   const auto w_st = materials::evaluateEos(dust, 1000.0, 0.0, 0.0);
   const double rho_mix = (1.0 - frac) * rho_g + frac * 1000.0;
@@ -221,14 +227,7 @@ TEST(Solver, ADustyGasShockedAtTheMixturesStepStaysBounded) {
                   {materials::idealGas("products", 1.4), materials::water()}, o);
   s.paint(0, [](const Vec3&) { return true; }, 0.5, 1e5 / (0.4 * 0.5));         // 0.1 MPa
   s.paint(0, [](const Vec3& x) { return x[0] < 0.3; }, 5.0, 1e7 / (0.4 * 5.0));  // 10 MPa
-  auto& W = s.fieldForSetup(1);
-  for (int i = 60; i < 200; ++i) {
-    const std::size_t c = s.grid().index(i, 0, 0);
-    W.alpha[c] = 1e-4;
-    W.rho[c] = 1000.0;
-    W.e[c] = 0.0;
-    s.fieldForSetup(0).alpha[c] = 1.0 - 1e-4;
-  }
+  addWaterDust(s, 60, 200, 1e-4);
   const auto a = s.totals();
   for (int n = 0; n < 200; ++n) s.step(s.stableTimeStep());
   const auto b = s.totals();
