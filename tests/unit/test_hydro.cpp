@@ -23,6 +23,16 @@ hydro::SolverOptions allBoundaries(BoundaryKind k) {
   return o;
 }
 
+// Material k as `frac` of cell c's volume at density rho and specific energy e; material `other`
+// holds the rest of the cell.
+void mixIn(hydro::Solver& s, std::size_t c, int k, double frac, double rho, double e, int other) {
+  auto& F = s.fieldForSetup(k);
+  F.alpha[c] = frac;
+  F.rho[c] = rho;
+  F.e[c] = e;
+  s.fieldForSetup(other).alpha[c] = 1.0 - frac;
+}
+
 TEST(Grid, GradedAxisHasUniformCoreAndBoundedGrowth) {
   const Axis a = Axis::graded(-1.0, 2.0, 0.0, 0.5, 0.01, 1.05);
   EXPECT_DOUBLE_EQ(a.lo(), -1.0);
@@ -159,13 +169,7 @@ TEST(Solver, FragmentsBelowTheCutAreFoldedIntoTheCellsOtherMaterials) {
   // traces of b, lighter and hotter at the same pressure: 3e-11 of cell 1 (under the cut, in a),
   // 3e-9 of cell 5 (over it, in c)
   const double rho_b = 0.5, e_b = 1.0 / (0.4 * rho_b);
-  auto& B = s.fieldForSetup(1);
-  for (const auto& [cell, frac, other] : {std::tuple{c1, 3e-11, 0}, std::tuple{c5, 3e-9, 2}}) {
-    B.alpha[cell] = frac;
-    B.rho[cell] = rho_b;
-    B.e[cell] = e_b;
-    s.fieldForSetup(other).alpha[cell] = 1.0 - frac;
-  }
+  for (const auto& [cell, frac, other] : {std::tuple{c1, 3e-11, 0}, std::tuple{c5, 3e-9, 2}}) mixIn(s, cell, 1, frac, rho_b, e_b, other);
   const auto a = s.totals();
   s.step(1e-4);
   const auto b = s.totals();
@@ -185,14 +189,7 @@ TEST(Solver, FragmentsBelowTheCutAreFoldedIntoTheCellsOtherMaterials) {
 // Water at reference density (1000 kg/m3, e = 0) as a dust of `frac` of the volume of cells
 // [first, last) of a 1D run whose material 0 is a gas and material 1 water.
 static void addWaterDust(hydro::Solver& s, int first, int last, double frac) {
-  auto& W = s.fieldForSetup(1);
-  for (int i = first; i < last; ++i) {
-    const std::size_t c = s.grid().index(i, 0, 0);
-    W.alpha[c] = frac;
-    W.rho[c] = 1000.0;
-    W.e[c] = 0.0;
-    s.fieldForSetup(0).alpha[c] = 1.0 - frac;
-  }
+  for (int i = first; i < last; ++i) mixIn(s, s.grid().index(i, 0, 0), 1, frac, 1000.0, 0.0, 0);
 }
 
 // The step is set by each cell's frozen mixture speed, sqrt(sum alpha_k K_k / rho_mix) (revision
