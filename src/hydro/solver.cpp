@@ -1317,12 +1317,11 @@ void Solver::sweep(int d, double dt) {
   // Along a strided axis, neighbouring pencils go as a tile through a staged copy of their cells
   // (stageTile); along the contiguous one each pencil's cells are one run of memory already.
   const bool tiled = opt_.sweep_tile > 1 && grid_.stride(d) != 1 && grid_.stride(a_inner ? S.t1 : S.t2) == 1 && n_inner > 1;
-  const int tile = tiled ? std::min(opt_.sweep_tile, 64) : 1;
-  const int Nl_cells = n + 2 * g;
+  const int tile = tiled ? std::min(opt_.sweep_tile, kMaxSweepTile) : 1;
   const std::size_t bad_cell = parallel::forEachTile<SweepScratch>(
       n_outer, n_inner, tile, useThreads(), sweep_balance_[static_cast<std::size_t>(d)], [&](SweepScratch& T) { T.pencil.resize(n, M); },
       [&](SweepScratch& T, int outer, int inner_from, int inner_to) {
-        std::size_t bases[64] = {};
+        std::size_t bases[kMaxSweepTile] = {};
         for (int inner = inner_from; inner < inner_to; ++inner) {
           const int a = a_inner ? inner : outer, b = a_inner ? outer : inner;
           int idx[3];
@@ -1331,7 +1330,7 @@ void Solver::sweep(int d, double dt) {
           idx[S.t2] = b;
           bases[inner - inner_from] = grid_.index(idx[0], idx[1], idx[2]);
         }
-        if (tiled) stageTile(T, d, bases, inner_to - inner_from, Nl_cells);
+        if (tiled) stageTile(T, d, bases, inner_to - inner_from, T.pencil.N);
         std::size_t bad = std::numeric_limits<std::size_t>::max();
         Pencil& P = T.pencil;
         for (int inner = inner_from; inner < inner_to; ++inner) {
@@ -1351,6 +1350,7 @@ void Solver::sweep(int d, double dt) {
         }
         return bad;
       });
+  if (tiled) stats_.staged_tiles += static_cast<std::int64_t>(n_outer) * ((n_inner + tile - 1) / tile);
   if (moved) {
     grid_.moveFaces(d, std::move(*moved));
     body_offset_ = offset_after;

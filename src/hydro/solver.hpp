@@ -65,6 +65,8 @@ struct DetonationPoint {
 // revision is refused (its energy books differ in layout too).
 inline constexpr int kSolverRevision = 13;
 
+inline constexpr int kMaxSweepTile = 64;   // the widest tile of pencils a sweep takes (SolverOptions::sweep_tile)
+
 struct SolverOptions {
   double cfl = 0.45;                     // - Courant number of each sweep
   Vec3 gravity{0.0, 0.0, 0.0};           // m/s2
@@ -84,7 +86,7 @@ struct SolverOptions {
   // Pencils swept together along a strided axis: their cells are read into a tile's scratch once,
   // a cache line serving all its pencils (1: each pencil reads the mesh itself). The same result to
   // the bit at any width; a test holds 1 against the default.
-  int sweep_tile = 8;
+  int sweep_tile = 8;                    // at most kMaxSweepTile
   // A material below this fraction of a cell's volume is folded into the cell's other materials
   // (volume, mass and internal energy, by their volumes; the cell's mass, momentum and energy
   // stay, and EnergyLedger::folded_mass books what each material gave). 0: never. At most
@@ -157,6 +159,7 @@ struct RunStats {
   std::int64_t steps = 0;
   double cell_updates = 0.0;
   double wall_seconds = 0.0;
+  std::int64_t staged_tiles = 0;   // tiles of pencils swept through a staged copy (SolverOptions::sweep_tile), since construction or restart
 };
 
 
