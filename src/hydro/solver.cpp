@@ -936,10 +936,9 @@ namespace {
 }
 }  // namespace
 
-void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, const SweepSetup& S) const {
+void Solver::gatherPencil(Pencil& P, int d, const PencilSource& src, int a, int b, const SweepSetup& S) const {
   const int N = P.N, M = P.M;
-  const std::ptrdiff_t stride = grid_.stride(d);
-  const std::size_t total_cells = grid_.totalCells();
+  const std::ptrdiff_t stride = src.stride;
   const bool several = materialCount() > 1;   // the interface weights exist
   const int t1 = S.t1, t2 = S.t2;
   const int s_dt1 = stressIndex(d, t1), s_dt2 = stressIndex(d, t2);
@@ -984,20 +983,21 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
   // or -0 leaves it as it was, the same sums as skipping it. Until the last loop P.P holds the sum
   // of the pressures and P.hoop that of the zz stress.
   for (int i = 0; i < N; ++i) {
-    const std::size_t c = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(base) + i * stride), si = static_cast<std::size_t>(i);
-    for (std::size_t q = 0; q < 3; ++q) P.u[q][si] = u_[q][c];
-    P.solid[si] = body_.empty() ? 0 : body_[c];
+    const std::ptrdiff_t c = i * stride;
+    const std::size_t si = static_cast<std::size_t>(i);
+    for (std::size_t q = 0; q < 3; ++q) P.u[q][si] = src.u[q][c];
+    P.solid[si] = src.solid ? src.solid[c] : 0;
     P.rho[si] = P.P[si] = P.K[si] = P.Kp[si] = P.present[si] = P.pmin[si] = P.hoop[si] = P.shear[0][si] = P.shear[1][si] = P.sum_snn[si] = P.sum_s11[si] = 0.0;
   }
   for (int k = 0; k < M; ++k) {
     const auto km = static_cast<std::size_t>(P.mat[k]);
-    const auto& F = fields_[km];
     const auto& mat = mats_[km];
-    const bool strength = !F.s[0].empty();
+    const bool strength = !fields_[km].s[0].empty();
+    const double *alpha = src.alpha[km], *rho = src.rho[km], *e = src.e[km], *h0 = src.h0[km], *wl = src.wl[km];
     for (int i = 0; i < N; ++i) {
-      const std::size_t c = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(base) + i * stride);
+      const std::ptrdiff_t c = i * stride;
       const std::size_t ki = P.at(k, i);
-      const double al = F.alpha[c];
+      const double al = alpha[c];
       P.a[ki] = al;
       if (!(al > 0.0)) {
         // An absent material's energy, history and stress are zero (every path that empties a cell
@@ -1012,12 +1012,12 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
           for (std::size_t q = 0; q < 6; ++q) P.s[q][ki] = 0.0;
         continue;
       }
-      P.r[ki] = F.rho[c];
-      P.wl[ki] = several && al < 1.0 ? wlic_[km * total_cells + c] : 1.0;   // (interfaceWeights: a full cell's is 1, not stored)
-      P.e[ki] = F.e[c];
-      P.h[ki] = F.h0[c];
+      P.r[ki] = rho[c];
+      P.wl[ki] = several && al < 1.0 ? wl[c] : 1.0;   // (interfaceWeights: a full cell's is 1, not stored)
+      P.e[ki] = e[c];
+      P.h[ki] = h0[c];
       if (strength)
-        for (std::size_t q = 0; q < 6; ++q) P.s[q][ki] = F.s[q][c];
+        for (std::size_t q = 0; q < 6; ++q) P.s[q][ki] = src.s[km][q][c];
     }
     const std::size_t k0 = P.at(k, 0);
     materials::evaluateEosAndHistory(mat, N, P.a.data() + k0, P.r.data() + k0, P.e.data() + k0, P.h.data() + k0, P.pk.data() + k0,
@@ -1041,20 +1041,96 @@ void Solver::gatherPencil(Pencil& P, int d, std::size_t base, int a, int b, cons
   }
 }
 
+// A pencil's cells read in place: the mesh's arrays from the pencil's first (ghost) cell on.
+Solver::PencilSource Solver::meshSource(int d, std::size_t base) const {
+  PencilSource src;
+  src.stride = grid_.stride(d);
+  for (std::size_t q = 0; q < 3; ++q) src.u[q] = u_[q].data() + base;
+  src.solid = body_.empty() ? nullptr : body_.data() + base;
+  const bool several = materialCount() > 1;
+  for (std::size_t k = 0; k < fields_.size(); ++k) {
+    const auto& F = fields_[k];
+    src.alpha[k] = F.alpha.data() + base;
+    src.rho[k] = F.rho.data() + base;
+    src.e[k] = F.e.data() + base;
+    src.h0[k] = F.h0.data() + base;
+    src.wl[k] = several ? wlic_.data() + k * grid_.totalCells() + base : nullptr;
+    if (!F.s[0].empty())
+      for (std::size_t q = 0; q < 6; ++q) src.s[k][q] = F.s[q].data() + base;
+  }
+  return src;
+}
+
+// Copies what the gather of each of a tile's pencils reads (`bases`: their first cells) into the
+// scratch, cell by cell across the pencils, so that each cache line of a strided sweep is fetched
+// once for the tile rather than once for each pencil; T.sources then point the gathers at it. An
+// absent material's fraction alone is copied, and a full cell's interface weight not at all: the
+// gather reads nothing else of them.
+void Solver::stageTile(SweepScratch& T, int d, const std::size_t* bases, int pencils, int N) const {
+  const int M = materialCount();
+  const bool several = M > 1;
+  const std::size_t W = static_cast<std::size_t>(pencils), n = static_cast<std::size_t>(N);
+  constexpr std::size_t kSlots = 11;   // by material: alpha, rho, e, h0, weight, six stresses
+  const std::size_t slots = 3 + kSlots * static_cast<std::size_t>(M), span = W * n;
+  if (T.staged.size() < slots * span) T.staged.resize(slots * span);
+  if (T.staged_solid.size() < span) T.staged_solid.resize(span);
+  T.sources.resize(W);
+  double* const out = T.staged.data();
+  auto at = [&](std::size_t slot, std::size_t w) { return out + slot * span + w * n; };
+  const std::ptrdiff_t stride = grid_.stride(d);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t w = 0; w < W; ++w) {
+      const std::size_t c = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(bases[w]) + static_cast<std::ptrdiff_t>(i) * stride);
+      for (std::size_t q = 0; q < 3; ++q) at(q, w)[i] = u_[q][c];
+      if (!body_.empty()) T.staged_solid[w * n + i] = body_[c];
+      for (std::size_t k = 0; k < static_cast<std::size_t>(M); ++k) {
+        const auto& F = fields_[k];
+        const std::size_t s0 = 3 + kSlots * k;
+        const double al = F.alpha[c];
+        at(s0, w)[i] = al;
+        if (!(al > 0.0)) continue;
+        at(s0 + 1, w)[i] = F.rho[c];
+        at(s0 + 2, w)[i] = F.e[c];
+        at(s0 + 3, w)[i] = F.h0[c];
+        if (several && al < 1.0) at(s0 + 4, w)[i] = wlic_[k * grid_.totalCells() + c];
+        if (!F.s[0].empty())
+          for (std::size_t q = 0; q < 6; ++q) at(s0 + 5 + q, w)[i] = F.s[q][c];
+      }
+    }
+  }
+  for (std::size_t w = 0; w < W; ++w) {
+    PencilSource& src = T.sources[w];
+    src = PencilSource{};
+    src.stride = 1;
+    for (std::size_t q = 0; q < 3; ++q) src.u[q] = at(q, w);
+    src.solid = body_.empty() ? nullptr : T.staged_solid.data() + w * n;
+    for (std::size_t k = 0; k < static_cast<std::size_t>(M); ++k) {
+      const std::size_t s0 = 3 + kSlots * k;
+      src.alpha[k] = at(s0, w);
+      src.rho[k] = at(s0 + 1, w);
+      src.e[k] = at(s0 + 2, w);
+      src.h0[k] = at(s0 + 3, w);
+      src.wl[k] = at(s0 + 4, w);
+      if (!fields_[k].s[0].empty())
+        for (std::size_t q = 0; q < 6; ++q) src.s[k][q] = at(s0 + 5 + q, w);
+    }
+  }
+}
+
 // The materials the pencil carries (Pencil::mat): those present in any of its cells, ghosts
 // included, in the run's order. Leaving out a material that is absent from the whole pencil
 // changes no number: its fraction and mass are zero in every cell, so its fluxes and shares are
 // zeros that leave the kernels' sums as they were, and its other values are multiplied by them.
 // The sweep leaves such a material's cells as they are, where carrying it would clear them again
 // (they are cleared already where the sweep or paint emptied them).
-void Solver::selectMaterials(Pencil& P, int d, std::size_t base) const {
+void Solver::selectMaterials(Pencil& P, const PencilSource& src) const {
   const int M = materialCount(), N = P.N;
-  const std::ptrdiff_t stride = grid_.stride(d);
+  const std::ptrdiff_t stride = src.stride;
   int used = 0;
   for (int k = 0; k < M; ++k) {
     bool present = M == 1 || opt_.carry_all_materials;
-    const auto& al = fields_[static_cast<std::size_t>(k)].alpha;
-    for (int i = 0; i < N && !present; ++i) present = al[static_cast<std::size_t>(static_cast<std::ptrdiff_t>(base) + i * stride)] > 0.0;
+    const double* al = src.alpha[k];
+    for (int i = 0; i < N && !present; ++i) present = al[i * stride] > 0.0;
     if (present) P.mat[used++] = k;
   }
   if (used == 0) {   // nothing anywhere (cannot happen in a filled mesh): carry every material
@@ -1235,28 +1311,46 @@ void Solver::sweep(int d, double dt) {
   // one innermost, so that a line fetched for one pencil serves the next ones (in 3D the sweep along
   // axis 1 otherwise jumped a whole plane between pencils and used one cell of each line). Each
   // pencil writes only its own cells and books into its own ledger, so the order changes no number.
-  const bool a_inner = grid_.stride(S.t1) < grid_.stride(S.t2);
+  // (In 2D the third axis is one cell thick, with the same stride as the second: the second is inner.)
+  const bool a_inner = grid_.stride(S.t1) < grid_.stride(S.t2) || n2 == 1;
   const int n_outer = a_inner ? n2 : n1, n_inner = a_inner ? n1 : n2;
-  const std::size_t bad_cell = parallel::forEachPencil<Pencil>(
-      n_outer, n_inner, useThreads(), sweep_balance_[static_cast<std::size_t>(d)], [&](Pencil& P) { P.resize(n, M); },
-      [&](Pencil& P, int outer, int inner) {
-        const int a = a_inner ? inner : outer, b = a_inner ? outer : inner;
-        int idx[3];
-        idx[d] = -g;
-        idx[S.t1] = a;
-        idx[S.t2] = b;
-        const std::size_t base = grid_.index(idx[0], idx[1], idx[2]);
-        auto& ledger = ledgers[static_cast<std::size_t>(a) * static_cast<std::size_t>(n2) + static_cast<std::size_t>(b)];
-        ledger.clearBooks();
-        selectMaterials(P, d, base);
-        gatherPencil(P, d, base, a, b, S);
-        computeSlopes(P, S);
-        solveFaces(P, S, ledger);
-        lagrangeUpdate(P, S, ledger);
-        remapFluxes(P, S, ledger);
-        if (moved) moveCellVolumes(P, S);
-        return scatterPencil(P, d, base, ledger);
+  // Along a strided axis, neighbouring pencils go as a tile through a staged copy of their cells
+  // (stageTile); along the contiguous one each pencil's cells are one run of memory already.
+  const bool tiled = opt_.sweep_tile > 1 && grid_.stride(d) != 1 && grid_.stride(a_inner ? S.t1 : S.t2) == 1 && n_inner > 1;
+  const int tile = tiled ? std::min(opt_.sweep_tile, kMaxSweepTile) : 1;
+  const std::size_t bad_cell = parallel::forEachTile<SweepScratch>(
+      n_outer, n_inner, tile, useThreads(), sweep_balance_[static_cast<std::size_t>(d)], [&](SweepScratch& T) { T.pencil.resize(n, M); },
+      [&](SweepScratch& T, int outer, int inner_from, int inner_to) {
+        std::size_t bases[kMaxSweepTile] = {};
+        for (int inner = inner_from; inner < inner_to; ++inner) {
+          const int a = a_inner ? inner : outer, b = a_inner ? outer : inner;
+          int idx[3];
+          idx[d] = -g;
+          idx[S.t1] = a;
+          idx[S.t2] = b;
+          bases[inner - inner_from] = grid_.index(idx[0], idx[1], idx[2]);
+        }
+        if (tiled) stageTile(T, d, bases, inner_to - inner_from, T.pencil.N);
+        std::size_t bad = std::numeric_limits<std::size_t>::max();
+        Pencil& P = T.pencil;
+        for (int inner = inner_from; inner < inner_to; ++inner) {
+          const int a = a_inner ? inner : outer, b = a_inner ? outer : inner;
+          const std::size_t base = bases[inner - inner_from];
+          const PencilSource src = tiled ? T.sources[static_cast<std::size_t>(inner - inner_from)] : meshSource(d, base);
+          auto& ledger = ledgers[static_cast<std::size_t>(a) * static_cast<std::size_t>(n2) + static_cast<std::size_t>(b)];
+          ledger.clearBooks();
+          selectMaterials(P, src);
+          gatherPencil(P, d, src, a, b, S);
+          computeSlopes(P, S);
+          solveFaces(P, S, ledger);
+          lagrangeUpdate(P, S, ledger);
+          remapFluxes(P, S, ledger);
+          if (moved) moveCellVolumes(P, S);
+          bad = std::min(bad, scatterPencil(P, d, base, ledger));
+        }
+        return bad;
       });
+  if (tiled) stats_.staged_tiles += static_cast<std::int64_t>(n_outer) * ((n_inner + tile - 1) / tile);
   if (moved) {
     grid_.moveFaces(d, std::move(*moved));
     body_offset_ = offset_after;

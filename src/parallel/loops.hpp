@@ -146,18 +146,23 @@ Scratch& threadScratch() {
   return scratch;
 }
 
-// A sweep's pencils, `n_outer` x `n_inner` of them (the inner index the one whose neighbours share
-// cache lines; a pencil is its own block): f(scratch, outer, inner) -> std::size_t, with `scratch`
-// a Scratch that each thread keeps from call to call (allocating it every sweep cost a 1D run more
-// time in the allocator than in the kernels), prepared by prepare(scratch) once a call. Returns the
-// least of f's results (SIZE_MAX for none).
+// A sweep's pencils, `n_outer` x `n_inner` of them, in tiles of up to `width` neighbouring inner
+// indices (the inner index is the one whose neighbours share cache lines: a tile reads each line
+// once for all its pencils): f(scratch, outer, inner_from, inner_to) -> std::size_t for each tile,
+// with `scratch` a Scratch that each thread keeps from call to call (allocating it every sweep cost
+// a 1D run more time in the allocator than in the kernels), prepared by prepare(scratch) once a
+// call. A tile is a block of the load balance. Returns the least of f's results (SIZE_MAX for none).
 template <class Scratch, class Prepare, class F>
-std::size_t forEachPencil(int n_outer, int n_inner, bool team, LoadBalance& balance, Prepare&& prepare, F&& f) {
-  const std::size_t inner = static_cast<std::size_t>(n_inner);
+std::size_t forEachTile(int n_outer, int n_inner, int width, bool team, LoadBalance& balance, Prepare&& prepare, F&& f) {
+  const int w = std::max(width, 1);
+  const std::size_t tiles = static_cast<std::size_t>((n_inner + w - 1) / w);
   return balancedMin(
-      static_cast<std::size_t>(n_outer) * inner, team, balance, std::numeric_limits<std::size_t>::max(),
+      static_cast<std::size_t>(n_outer) * tiles, team, balance, std::numeric_limits<std::size_t>::max(),
       [&] { prepare(threadScratch<Scratch>()); },
-      [&](std::size_t at) { return f(threadScratch<Scratch>(), static_cast<int>(at / inner), static_cast<int>(at % inner)); });
+      [&](std::size_t at) {
+        const int from = static_cast<int>(at % tiles) * w;
+        return f(threadScratch<Scratch>(), static_cast<int>(at / tiles), from, std::min(from + w, n_inner));
+      });
 }
 
 }  // namespace ejecta::parallel

@@ -90,13 +90,14 @@ TEST(LoadBalance, EveryPencilAndCellOnceOnAnyNumberOfThreads) {
     parallel::LoadBalance pencils, cells;
     for (int pass = 0; pass < 3; ++pass) {   // the later passes split by the measured cost
       std::vector<std::atomic<int>> seen(7 * 5);
-      const auto least = parallel::forEachPencil<Scratch>(
-          7, 5, true, pencils,
+      const auto least = parallel::forEachTile<Scratch>(
+          7, 5, 1, true, pencils,
           [](Scratch& s) {
             s.owner = threadNumber();
             s.data.assign(3, 0.0);
           },
-          [&](Scratch& s, int outer, int inner) {
+          [&](Scratch& s, int outer, int inner, int inner_to) {
+            EXPECT_EQ(inner_to, inner + 1);          // tiles one pencil wide
             EXPECT_EQ(s.tag, 42);                  // constructed on this thread
             EXPECT_EQ(s.owner, threadNumber());    // prepared by this thread: its own
             EXPECT_EQ(s.data.size(), 3u);
@@ -174,6 +175,29 @@ void sameOnAnyThreads(int dims, int steps) {
     EXPECT_EQ(bits(one.stableTimeStep()), bits(many.stableTimeStep()));
   }
 #endif
+}
+
+// Tiles of neighbouring pencils: every pencil in exactly one tile, tiles never wider than asked,
+// the last one of a row the rest, on any number of threads.
+TEST(LoadBalance, TilesCoverEveryPencilOnce) {
+  for (int threads : {1, 2, 3}) {
+    ThreadsFor use(threads);
+    parallel::LoadBalance balance;
+    for (int width : {1, 3, 8, 20}) {
+      std::vector<std::atomic<int>> seen(6 * 11);
+      std::atomic<int> tiles{0};
+      parallel::forEachTile<Scratch>(6, 11, width, true, balance, [](Scratch&) {}, [&](Scratch&, int outer, int from, int to) {
+        EXPECT_LT(from, to);
+        EXPECT_LE(to - from, width);
+        EXPECT_TRUE(to - from == width || to == 11) << from << " " << to;
+        tiles++;
+        for (int i = from; i < to; ++i) seen[static_cast<std::size_t>(outer * 11 + i)]++;
+        return std::size_t{0};
+      });
+      for (const auto& n : seen) EXPECT_EQ(n.load(), 1) << width;
+      EXPECT_EQ(tiles.load(), 6 * ((11 + width - 1) / width));
+    }
+  }
 }
 
 TEST(LoadBalance, ThreadsChangeNoBitIn2D) { sameOnAnyThreads(2, 120); }
