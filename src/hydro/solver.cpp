@@ -1067,52 +1067,50 @@ Solver::PencilSource Solver::meshSource(int d, std::size_t base) const {
 // absent material's fraction alone is copied, and a full cell's interface weight not at all: the
 // gather reads nothing else of them.
 void Solver::stageTile(SweepScratch& T, int d, const std::size_t* bases, int pencils, int N) const {
-  const int M = materialCount();
-  const bool several = M > 1;
+  const std::size_t M = static_cast<std::size_t>(materialCount());
   const std::size_t W = static_cast<std::size_t>(pencils), n = static_cast<std::size_t>(N);
   constexpr std::size_t kSlots = 11;   // by material: alpha, rho, e, h0, weight, six stresses
-  const std::size_t slots = 3 + kSlots * static_cast<std::size_t>(M), span = W * n;
-  if (T.staged.size() < slots * span) T.staged.resize(slots * span);
+  const std::size_t span = W * n;
+  if (T.staged.size() < (3 + kSlots * M) * span) T.staged.resize((3 + kSlots * M) * span);
   if (T.staged_solid.size() < span) T.staged_solid.resize(span);
-  T.sources.resize(W);
   double* const out = T.staged.data();
-  auto at = [&](std::size_t slot, std::size_t w) { return out + slot * span + w * n; };
-  const std::ptrdiff_t stride = grid_.stride(d);
+  // pencil w's run of the velocity component q, or of field f (0 alpha ... 4 weight, 5 + q stress) of material k
+  auto velocity = [&](std::size_t q, std::size_t w) { return out + q * span + w * n; };
+  auto field = [&](std::size_t k, std::size_t f, std::size_t w) { return out + (3 + kSlots * k + f) * span + w * n; };
+  T.sources.resize(W);
+  for (std::size_t w = 0; w < W; ++w) T.sources[w] = meshSource(d, bases[w]);   // read from here ...
   for (std::size_t i = 0; i < n; ++i) {
     for (std::size_t w = 0; w < W; ++w) {
-      const std::size_t c = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(bases[w]) + static_cast<std::ptrdiff_t>(i) * stride);
-      for (std::size_t q = 0; q < 3; ++q) at(q, w)[i] = u_[q][c];
-      if (!body_.empty()) T.staged_solid[w * n + i] = body_[c];
-      for (std::size_t k = 0; k < static_cast<std::size_t>(M); ++k) {
-        const auto& F = fields_[k];
-        const std::size_t s0 = 3 + kSlots * k;
-        const double al = F.alpha[c];
-        at(s0, w)[i] = al;
+      const PencilSource& from = T.sources[w];
+      const std::ptrdiff_t c = static_cast<std::ptrdiff_t>(i) * from.stride;
+      for (std::size_t q = 0; q < 3; ++q) velocity(q, w)[i] = from.u[q][c];
+      if (from.solid) T.staged_solid[w * n + i] = from.solid[c];
+      for (std::size_t k = 0; k < M; ++k) {
+        const double al = from.alpha[k][c];
+        field(k, 0, w)[i] = al;
         if (!(al > 0.0)) continue;
-        at(s0 + 1, w)[i] = F.rho[c];
-        at(s0 + 2, w)[i] = F.e[c];
-        at(s0 + 3, w)[i] = F.h0[c];
-        if (several && al < 1.0) at(s0 + 4, w)[i] = wlic_[k * grid_.totalCells() + c];
-        if (!F.s[0].empty())
-          for (std::size_t q = 0; q < 6; ++q) at(s0 + 5 + q, w)[i] = F.s[q][c];
+        field(k, 1, w)[i] = from.rho[k][c];
+        field(k, 2, w)[i] = from.e[k][c];
+        field(k, 3, w)[i] = from.h0[k][c];
+        if (from.wl[k] && al < 1.0) field(k, 4, w)[i] = from.wl[k][c];
+        if (from.s[k][0])
+          for (std::size_t q = 0; q < 6; ++q) field(k, 5 + q, w)[i] = from.s[k][q][c];
       }
     }
   }
-  for (std::size_t w = 0; w < W; ++w) {
+  for (std::size_t w = 0; w < W; ++w) {   // ... and the gathers read the copy
     PencilSource& src = T.sources[w];
-    src = PencilSource{};
     src.stride = 1;
-    for (std::size_t q = 0; q < 3; ++q) src.u[q] = at(q, w);
-    src.solid = body_.empty() ? nullptr : T.staged_solid.data() + w * n;
-    for (std::size_t k = 0; k < static_cast<std::size_t>(M); ++k) {
-      const std::size_t s0 = 3 + kSlots * k;
-      src.alpha[k] = at(s0, w);
-      src.rho[k] = at(s0 + 1, w);
-      src.e[k] = at(s0 + 2, w);
-      src.h0[k] = at(s0 + 3, w);
-      src.wl[k] = at(s0 + 4, w);
-      if (!fields_[k].s[0].empty())
-        for (std::size_t q = 0; q < 6; ++q) src.s[k][q] = at(s0 + 5 + q, w);
+    for (std::size_t q = 0; q < 3; ++q) src.u[q] = velocity(q, w);
+    if (src.solid) src.solid = T.staged_solid.data() + w * n;
+    for (std::size_t k = 0; k < M; ++k) {
+      src.alpha[k] = field(k, 0, w);
+      src.rho[k] = field(k, 1, w);
+      src.e[k] = field(k, 2, w);
+      src.h0[k] = field(k, 3, w);
+      if (src.wl[k]) src.wl[k] = field(k, 4, w);
+      if (src.s[k][0])
+        for (std::size_t q = 0; q < 6; ++q) src.s[k][q] = field(k, 5 + q, w);
     }
   }
 }
@@ -1321,22 +1319,26 @@ void Solver::sweep(int d, double dt) {
   const std::size_t bad_cell = parallel::forEachTile<SweepScratch>(
       n_outer, n_inner, tile, useThreads(), sweep_balance_[static_cast<std::size_t>(d)], [&](SweepScratch& T) { T.pencil.resize(n, M); },
       [&](SweepScratch& T, int outer, int inner_from, int inner_to) {
+        // the pencil's place on the two transverse axes, and its first (ghost) cell
+        int a_of[kMaxSweepTile] = {}, b_of[kMaxSweepTile] = {};
         std::size_t bases[kMaxSweepTile] = {};
         for (int inner = inner_from; inner < inner_to; ++inner) {
-          const int a = a_inner ? inner : outer, b = a_inner ? outer : inner;
+          const int t = inner - inner_from;
+          a_of[t] = a_inner ? inner : outer;
+          b_of[t] = a_inner ? outer : inner;
           int idx[3];
           idx[d] = -g;
-          idx[S.t1] = a;
-          idx[S.t2] = b;
-          bases[inner - inner_from] = grid_.index(idx[0], idx[1], idx[2]);
+          idx[S.t1] = a_of[t];
+          idx[S.t2] = b_of[t];
+          bases[t] = grid_.index(idx[0], idx[1], idx[2]);
         }
         if (tiled) stageTile(T, d, bases, inner_to - inner_from, T.pencil.N);
         std::size_t bad = std::numeric_limits<std::size_t>::max();
         Pencil& P = T.pencil;
         for (int inner = inner_from; inner < inner_to; ++inner) {
-          const int a = a_inner ? inner : outer, b = a_inner ? outer : inner;
-          const std::size_t base = bases[inner - inner_from];
-          const PencilSource src = tiled ? T.sources[static_cast<std::size_t>(inner - inner_from)] : meshSource(d, base);
+          const int t = inner - inner_from, a = a_of[t], b = b_of[t];
+          const std::size_t base = bases[t];
+          const PencilSource src = tiled ? T.sources[static_cast<std::size_t>(t)] : meshSource(d, base);
           auto& ledger = ledgers[static_cast<std::size_t>(a) * static_cast<std::size_t>(n2) + static_cast<std::size_t>(b)];
           ledger.clearBooks();
           selectMaterials(P, src);
