@@ -142,8 +142,38 @@ def run_case(ejecta, case, work, threads):
         return totals(json.load(f))
 
 
+def same_bits(dir_a, dir_b):
+    """Every case run in both work folders (two builds' regression runs) gives the same totals to
+    the bit. The release build is tuned for its machine (-march=native) and the sanitizer build is
+    portable: their equality is what says that the tuning changes no number."""
+    compared, bad = 0, []
+    for case in CASES:
+        paths = [os.path.join(d, case, "summary.json") for d in (dir_a, dir_b)]
+        if not all(os.path.exists(p) for p in paths):
+            continue
+        qa, qb = (totals(json.load(open(p))) for p in paths)
+        compared += 1
+        for name in sorted(set(qa) | set(qb)):
+            a, b = qa.get(name), qb.get(name)
+            if a != b:
+                bad.append(f"{case}: {name}: {a!r} in {dir_a}, {b!r} in {dir_b}")
+    if compared == 0:
+        print(f"regression: no case was run in both {dir_a} and {dir_b}", file=sys.stderr)
+        return 1
+    if bad:
+        print("regression: FAILED: the two builds' totals differ", file=sys.stderr)
+        for m in bad:
+            print("  " + m, file=sys.stderr)
+        return 1
+    print(f"regression: {compared} case(s) give the same totals to the bit in {dir_a} and {dir_b}")
+    return 0
+
+
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    if len(sys.argv) == 4 and sys.argv[1] == "--same-bits":
+        return same_bits(sys.argv[2], sys.argv[3])
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0],
+                                 epilog="regression.py --same-bits DIR_A DIR_B: two builds' work folders, compared to the bit")
     ap.add_argument("--ejecta", required=True, help="the ejecta binary")
     ap.add_argument("--file", default=DEFAULT_FILE, help="stored totals (default: tests/regression/totals.json)")
     ap.add_argument("--case", action="append", help="run only this case (repeatable; default: all)")
