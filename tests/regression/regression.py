@@ -142,6 +142,14 @@ def run_case(ejecta, case, work, threads):
         return totals(json.load(f))
 
 
+def report_failures(headline, messages):
+    """Prints a failure's headline and each message to stderr; returns the exit status, 1."""
+    print(f"regression: FAILED: {headline}", file=sys.stderr)
+    for m in messages:
+        print("  " + m, file=sys.stderr)
+    return 1
+
+
 def same_bits(dir_a, dir_b):
     """Every case run in both work folders (two builds' regression runs) gives the same totals to
     the bit. The release build is tuned for its machine (-march=native) and the sanitizer build is
@@ -160,10 +168,7 @@ def same_bits(dir_a, dir_b):
             if a != b:
                 bad.append(f"{case}: {name}: {a!r} in {dir_a}, {b!r} in {dir_b}")
     if bad:
-        print("regression: FAILED: the two builds' totals differ, or a case did not run in both", file=sys.stderr)
-        for m in bad:
-            print("  " + m, file=sys.stderr)
-        return 1
+        return report_failures("the two builds' totals differ, or a case did not run in both", bad)
     print(f"regression: {compared} case(s) give the same totals to the bit in {dir_a} and {dir_b}")
     return 0
 
@@ -216,10 +221,7 @@ def main():
         print(f"regression: {c}: {len(results[c])} totals, {results[c]['steps']} steps")
     sys.stdout.flush()
     if failures:
-        print("regression: FAILED: totals moved (if the change is meant: scripts/regression.sh --update)", file=sys.stderr)
-        for m in failures:
-            print("  " + m, file=sys.stderr)
-        return 1
+        return report_failures("totals moved (if the change is meant: scripts/regression.sh --update)", failures)
     print(f"regression: all totals of {len(cases)} case(s) within {RTOL:g} of the stored ones, step counts equal")
     return 0
 
