@@ -138,7 +138,11 @@ def run_case(ejecta, case, work, threads):
         if p.returncode != 0:
             raise RuntimeError(f"{case}: `{' '.join(argv)}` exited {p.returncode}:\n{p.stdout}")
         prev = out
-    with open(os.path.join(prev, "summary.json")) as f:
+    return load_totals(os.path.join(prev, "summary.json"))
+
+
+def load_totals(summary_path):
+    with open(summary_path) as f:
         return totals(json.load(f))
 
 
@@ -161,7 +165,7 @@ def same_bits(dir_a, dir_b):
         if missing:   # every case must have run in both builds: a skipped case proves nothing
             bad.append(f"{case}: no summary.json in {', '.join(os.path.dirname(p) for p in missing)}")
             continue
-        qa, qb = (totals(json.load(open(p))) for p in paths)
+        qa, qb = (load_totals(p) for p in paths)
         compared += 1
         for name in sorted(set(qa) | set(qb)):
             a, b = qa.get(name), qb.get(name)
@@ -174,17 +178,20 @@ def same_bits(dir_a, dir_b):
 
 
 def main():
-    if len(sys.argv) == 4 and sys.argv[1] == "--same-bits":
-        return same_bits(sys.argv[2], sys.argv[3])
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0],
-                                 epilog="regression.py --same-bits DIR_A DIR_B: two builds' work folders, compared to the bit")
-    ap.add_argument("--ejecta", required=True, help="the ejecta binary")
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--ejecta", help="the ejecta binary (needed unless --same-bits)")
+    ap.add_argument("--same-bits", nargs=2, metavar=("DIR_A", "DIR_B"),
+                    help="compare two builds' work folders to the bit instead of running anything")
     ap.add_argument("--file", default=DEFAULT_FILE, help="stored totals (default: tests/regression/totals.json)")
     ap.add_argument("--case", action="append", help="run only this case (repeatable; default: all)")
     ap.add_argument("--work", help="folder for the run folders (default: a temporary one, removed)")
     ap.add_argument("--threads", type=int, default=1, help="OpenMP threads per run (the totals do not depend on it)")
     ap.add_argument("--update", action="store_true", help="store the totals of this build instead of comparing")
     args = ap.parse_args()
+    if args.same_bits:
+        return same_bits(*args.same_bits)
+    if not args.ejecta:
+        ap.error("--ejecta is required (unless --same-bits)")
     cases = args.case or list(CASES)
     for c in cases:
         if c not in CASES:
