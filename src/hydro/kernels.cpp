@@ -28,10 +28,6 @@ inline bool anySolid(const Pencil& P) {
   return false;
 }
 
-inline double lnCosh(double x) {
-  const double ax = std::abs(x);
-  return ax + std::log1p(std::exp(-2.0 * ax)) - 0.69314718055994530942;
-}
 }  // namespace
 
 void Pencil::resize(int cells, int materials) {
@@ -62,6 +58,12 @@ double thincOutflow(double a, double a_lo, double a_hi, double b, bool out_high,
 }
 
 double thincOutflow(double a, double a_lo, double a_hi, double b, bool out_high, const ThincProfile& th) {
+  ThincFace face(b, out_high, th);
+  return thincOutflow(a, a_lo, a_hi, face);
+}
+
+double thincOutflow(double a, double a_lo, double a_hi, ThincFace& face) {
+  const double b = face.b;
   const double hi_cap = std::min(a, b), lo_cap = std::max(0.0, a - (1.0 - b));
   // Within the caps, the upper one winning: at a = 1 the lower cap 1 - (1 - b) can round one ulp
   // above b, where std::clamp's precondition (lo <= hi) fails; this is what libstdc++'s clamp
@@ -69,18 +71,19 @@ double thincOutflow(double a, double a_lo, double a_hi, double b, bool out_high,
   const auto capped = [&](double x) { return std::min(std::max(x, lo_cap), hi_cap); };
   // No interface to sharpen where the neighbours do not bracket the cell: the donor mean.
   if (a < 1e-6 || a > 1.0 - 1e-6 || (a_hi - a) * (a - a_lo) <= 0.0) return capped(a * b);
+  const ThincProfile& th = face.th;
   const double beta = th.beta;
   const double gamma = a_hi > a_lo ? 1.0 : -1.0;
   const double q = 2.0 * beta * gamma * (a - 0.5);   // gamma = +-1, so 1/gamma = gamma
   const double eq = std::exp(q);
+  // t = exp(2 beta xc), xc the profile's centre. The flux is the integral of the tanh profile,
+  // a difference of two ln cosh; that difference is the log of a ratio of cosh, which in t is a
+  // ratio of two sums of positive terms (no cancellation): one log here, and one exp per face
+  // shared by its materials, where the two ln cosh took four calls and the centre's log one more.
   const double t = (th.exp_beta - eq) / (eq - th.exp_minus_beta);
-  const double xc = std::log(t) / (2.0 * beta);
-  double f;
-  if (out_high)
-    f = 0.5 * b + gamma / (2.0 * beta) * (lnCosh(beta * (1.0 - xc)) - lnCosh(beta * (1.0 - b - xc)));
-  else
-    f = 0.5 * b + gamma / (2.0 * beta) * (lnCosh(beta * (b - xc)) - lnCosh(beta * xc));
-  return capped(f);
+  const double ef = face.exponential();
+  const double ratio = face.out_high ? (th.exp_beta + t * th.exp_minus_beta) / (ef + t / ef) : (ef + t / ef) / (1.0 + t);
+  return capped(0.5 * b + gamma / (2.0 * beta) * std::log(ratio));
 }
 
 void shareHeat(int M, const double* mass, const double* loss, double heat, const double* held, double* add) {
@@ -382,14 +385,11 @@ void solveFaces(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
 
 // ------------------------------------------------------------------------------------------------
 
-// Work done on a material whose volume v0 changes by dv, starting at pressure p with bulk modulus
-// K: along the local polytrope p v^G = const, G = K/p, second order in dv/v0 both ways.
-// Expanding: a small fraction of gas in an expanding cell takes most of the cell's volume change,
-// often many times its own volume in one step; charged p dv at its starting pressure it would give
-// away more than it holds and end below zero energy, where its pressure is cut to zero. Along the
-// polytrope it gives at most p v0 / (G - 1), which for an ideal gas (and JWL products far out) is
-// all it holds.
-double volumeWork(double p, double K, double v0, double dv) {
+namespace {
+// volumeWork with the polytrope's pressure ratio (1 + x)^-G from `ratio()`, which the closure
+// computes once for its steps 1 and 2 (one power instead of two for a gas).
+template <class Ratio>
+double polytropeWork(double p, double K, double v0, double dv, Ratio&& ratio) {
   if (dv < 0.0 && v0 > 0.0 && p > 0.0) {
     // Compression to the same order: along the polytrope for a gas (G < 4), by the trapezoid for a
     // stiff material (its pressure rises by K x over the step). At p dV from the starting pressure
@@ -397,14 +397,27 @@ double volumeWork(double p, double K, double v0, double dv) {
     // adiabat on every compression, and the shortfall went to the sand (revision 4 measured the
     // confined products' energy at 10 ms: -4.7 kJ with the first-order credit, +129 kJ with this).
     const double x = std::max(dv / v0, -0.999), G = K / p;
-    if (G > 1.0 + 1e-6 && G < 4.0) return p * v0 * (std::pow(1.0 + x, 1.0 - G) - 1.0) / (G - 1.0);
+    if (G > 1.0 + 1e-6 && G < 4.0) return p * v0 * (ratio() * (1.0 + x) - 1.0) / (G - 1.0);
     return -(p - 0.5 * K * x) * dv;
   }
   if (!(dv > 0.0) || !(p > 0.0) || !(v0 > 0.0)) return -p * dv;
-  const double x = dv / v0;
-  const double gm1 = std::max(K / p - 1.0, 1e-6);
+  const double x = dv / v0, G = K / p;
+  const double gm1 = std::max(G - 1.0, 1e-6);
   if (gm1 * x < 1e-6) return -p * dv * (1.0 - 0.5 * (gm1 + 1.0) * x);   // series for small steps
-  return -p * v0 * (1.0 - std::pow(1.0 + x, -gm1)) / gm1;
+  const double power = gm1 == G - 1.0 ? ratio() * (1.0 + x) : std::pow(1.0 + x, -gm1);   // (1 + x)^(1 - G)
+  return -p * v0 * (1.0 - power) / gm1;
+}
+}  // namespace
+
+// Work done on a material whose volume v0 changes by dv, starting at pressure p with bulk modulus
+// K: along the local polytrope p v^G = const, G = K/p, second order in dv/v0 both ways.
+// Expanding: a small fraction of gas in an expanding cell takes most of the cell's volume change,
+// often many times its own volume in one step; charged p dV at its starting pressure it would give
+// away more than it holds and end below zero energy, where its pressure is cut to zero. Along the
+// polytrope it gives at most p v0 / (G - 1), which for an ideal gas (and JWL products far out) is
+// all it holds.
+double volumeWork(double p, double K, double v0, double dv) {
+  return polytropeWork(p, K, v0, dv, [&] { return std::pow(1.0 + std::max(dv / v0, -0.999), -K / p); });
 }
 
 void closeMixedCell(MixedCell& c, double V, double Vl, double die) {
@@ -432,16 +445,21 @@ void closeMixedCell(MixedCell& c, double V, double Vl, double die) {
   double work = 0.0, dv[kMaxMaterials];
   bool held[kMaxMaterials] = {};
   double remaining = dV - dv_frag;
-  for (int k = 0; k < M; ++k) dv[k] = c.alpha[k] > kAlphaMin ? 0.0 : c.alpha[k] * dV;
+  double compliance[kMaxMaterials];   // alpha / K: each one's share of the volume change
+  for (int k = 0; k < M; ++k) {
+    dv[k] = c.alpha[k] > kAlphaMin ? 0.0 : c.alpha[k] * dV;
+    compliance[k] = c.alpha[k] / std::max(c.K[k], 1.0);
+  }
   for (int pass = 0; pass < M; ++pass) {
     double w = 0.0;
     for (int k = 0; k < M; ++k)
-      if (c.alpha[k] > kAlphaMin && !held[k]) w += c.alpha[k] / std::max(c.K[k], 1.0);
+      if (c.alpha[k] > kAlphaMin && !held[k]) w += compliance[k];
     if (!(w > 0.0)) break;
+    const double per_w = remaining / w;
     bool clamped = false;
     for (int k = 0; k < M; ++k) {
       if (c.alpha[k] <= kAlphaMin || held[k]) continue;
-      dv[k] = remaining * (c.alpha[k] / std::max(c.K[k], 1.0)) / w;
+      dv[k] = compliance[k] * per_w;
       if (dv[k] < -0.95 * c.alpha[k] * V) {
         dv[k] = -0.95 * c.alpha[k] * V;
         held[k] = true;
@@ -453,10 +471,13 @@ void closeMixedCell(MixedCell& c, double V, double Vl, double die) {
     for (int k = 0; k < M; ++k)
       if (held[k]) remaining -= dv[k];
   }
+  double ratio[kMaxMaterials];   // (1 + x)^-G where step 1 took it (a gas), for step 2; else -1
   for (int k = 0; k < M; ++k) {
     c.v[k] = c.alpha[k] * V + dv[k];
+    ratio[k] = -1.0;
     if (c.alpha[k] > kAlphaMin) {
-      const double wk = volumeWork(c.p[k], c.K[k], c.alpha[k] * V, dv[k]);
+      const double v0 = c.alpha[k] * V, x = dv[k] / v0;
+      const double wk = polytropeWork(c.p[k], c.K[k], v0, dv[k], [&] { return ratio[k] = std::pow(1.0 + x, -c.K[k] / c.p[k]); });
       c.ie[k] += wk;
       work += wk;
     }
@@ -471,14 +492,14 @@ void closeMixedCell(MixedCell& c, double V, double Vl, double die) {
   //    Petitpas and Berry, and of Kamm and Shashkov). Charged at its own pressure instead, the
   //    expanding material gave that excess away as heat, mostly by mass into sand: confined
   //    products lost energy with every refinement (119 / 52 / 29 / 18 kJ at 10 / 6 / 5 / 4 mm).
-  double p1[kMaxMaterials] = {}, K1[kMaxMaterials] = {};
+  double p1[kMaxMaterials] = {}, K1[kMaxMaterials] = {}, vk_per_K[kMaxMaterials] = {};
   double sw = 0.0, swp = 0.0;
   for (int k = 0; k < M; ++k) {
     if (c.alpha[k] <= kAlphaMin) continue;
     const double v0 = c.alpha[k] * V, p = c.p[k], x = dv[k] / v0;   // step 1 keeps 5% of v0
     if (p > 0.0 && c.K[k] / p < 4.0) {   // a gas, as volumeWork: along p v^G = const, G = K / p
       const double G = c.K[k] / p;
-      p1[k] = p * std::pow(1.0 + x, -G);
+      p1[k] = p * (ratio[k] >= 0.0 ? ratio[k] : std::pow(1.0 + x, -G));
       K1[k] = std::max(G * p1[k], 1.0);
     } else {   // stiff, or at no pressure: linearly, never extrapolated below zero from a
                // material that was not in tension (a zero-pressure one would then be charged
@@ -486,20 +507,21 @@ void closeMixedCell(MixedCell& c, double V, double Vl, double die) {
       K1[k] = std::max(c.K[k], 1.0);
       p1[k] = std::max(p - K1[k] * x, std::min(p, 0.0));
     }
-    sw += c.v[k] / K1[k];
-    swp += c.v[k] / K1[k] * p1[k];
+    vk_per_K[k] = c.v[k] / K1[k];
+    sw += vk_per_K[k];
+    swp += vk_per_K[k] * p1[k];
   }
   const double p_eq = swp / sw;
-  double theta = 1.0;
+  double theta = 1.0, step[kMaxMaterials] = {};
   for (int k = 0; k < M; ++k) {
     if (c.alpha[k] <= kAlphaMin) continue;
-    const double dk = c.v[k] * (p1[k] - p_eq) / K1[k];
+    const double dk = step[k] = vk_per_K[k] * (p1[k] - p_eq);
     if (dk < 0.0) theta = std::min(theta, 0.5 * c.v[k] / -dk);
     if (dk > 0.0) theta = std::min(theta, c.v[k] / dk);
   }
   for (int k = 0; k < M; ++k) {
     if (c.alpha[k] <= kAlphaMin) continue;
-    const double dk = theta * c.v[k] * (p1[k] - p_eq) / K1[k];
+    const double dk = theta * step[k];
     c.v[k] += dk;
     c.ie[k] -= p_eq * dk;
     work -= p_eq * dk;   // sums to round-off: booked, so that step 3 closes the cell exactly
@@ -793,6 +815,7 @@ void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     // material volumes: THINC where an interface faces the sweep, the donor mean elsewhere,
     // normalised to the swept volume and never more than a donor holds
     double raw_sum = 0.0, raw[kMaxMaterials];
+    ThincFace face(bfrac, out_high, thinc);
     for (int k = 0; k < M; ++k) {
       const std::size_t kD = P.at(k, D);
       if (M > 1 && P.vk[kD] == 0.0 && vD > 0.0) {
@@ -804,7 +827,7 @@ void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
       }
       const double al = P.vk[kD] / vD;
       const double wl = P.wl[kD];
-      raw[k] = M == 1 ? bfrac : wl * thincOutflow(al, P.a[kD - 1], P.a[kD + 1], bfrac, out_high, thinc) + (1.0 - wl) * al * bfrac;
+      raw[k] = M == 1 ? bfrac : wl * thincOutflow(al, P.a[kD - 1], P.a[kD + 1], face) + (1.0 - wl) * al * bfrac;
       raw_sum += raw[k];
     }
     const double target = std::abs(dvf);
@@ -814,10 +837,11 @@ void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     if (!(raw_sum > 0.0))
       for (int k = 0; k < M; ++k) held += P.vk[P.at(k, D)];
     double dvk[kMaxMaterials], excess = 0.0, room = 0.0;
+    const double per_raw = raw_sum > 0.0 ? target / raw_sum : 0.0;
     for (int k = 0; k < M; ++k) {
       const std::size_t kD = P.at(k, D);
-      // (a material with no profile here takes nothing: the quotient's +0 without the division)
-      dvk[k] = raw_sum > 0.0 ? (raw[k] == 0.0 ? 0.0 : raw[k] / raw_sum * target) : (held > 0.0 ? P.vk[kD] / held * target : target / M);
+      // (a material with no profile here takes nothing: +0)
+      dvk[k] = raw_sum > 0.0 ? (raw[k] == 0.0 ? 0.0 : raw[k] * per_raw) : (held > 0.0 ? P.vk[kD] / held * target : target / M);
       if (dvk[k] > P.vk[kD]) {
         excess += dvk[k] - P.vk[kD];
         dvk[k] = P.vk[kD];
@@ -862,9 +886,10 @@ void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     }
     const double keep_m = dm > 0.0 ? std::clamp((P.mass[sD] - dm) / dm, 0.0, 1.0) : 1.0;
     double uf2 = 0.0;
+    const double per_mass = 1.0 / P.mass[sD];
     for (std::size_t q = 0; q < 3; ++q) {
       const auto& uq = P.u[q];
-      double uf = P.mom[q][sD] / P.mass[sD];
+      double uf = P.mom[q][sD] * per_mass;
       if (second) uf += keep_m * offset * vanLeer((uq[sD] - uq[sD - 1]) * S.inv_dx[sD], (uq[sD + 1] - uq[sD]) * S.inv_dx[sD + 1]);
       P.fmom[q][sf] = sign * dm * uf;
       uf2 += uf * uf;

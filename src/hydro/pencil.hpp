@@ -214,5 +214,20 @@ struct ThincProfile {
   double beta, exp_beta, exp_minus_beta;
 };
 double thincOutflow(double a, double a_lo, double a_hi, double b, bool out_high, const ThincProfile& profile);
+// One face of a remap: the swept fraction, the side it leaves by, and the profile's exponential of
+// the face (exp(beta (1 - b)) through the high face, exp(beta b) through the low one), taken once
+// when a material first needs it and then shared by the face's other materials.
+struct ThincFace {
+  ThincFace(double swept, bool high, const ThincProfile& profile) : b(swept), out_high(high), th(profile) {}
+  double exponential() {
+    if (!(e > 0.0)) e = std::exp(th.beta * (out_high ? 1.0 - b : b));
+    return e;
+  }
+  double b;
+  bool out_high;
+  const ThincProfile& th;
+  double e = 0.0;
+};
+double thincOutflow(double a, double a_lo, double a_hi, ThincFace& face);
 
 }  // namespace ejecta::hydro

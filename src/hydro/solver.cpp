@@ -792,27 +792,32 @@ void Solver::interfaceWeights(int d) {
   const int dims = grid_.dims();
   const int n0 = grid_.cells(0), n1 = grid_.cells(1), n2 = grid_.cells(2);
   const std::size_t total = grid_.totalCells();
+  // the central difference's 1 / (x[i+1] - x[i-1]) along each axis, once per sweep, not per cell and material
+  std::array<std::vector<double>, 3> per_span;
+  std::ptrdiff_t stride[3] = {};
+  for (int b = 0; b < dims; ++b) {
+    auto& ps = per_span[static_cast<std::size_t>(b)];
+    ps.resize(static_cast<std::size_t>(grid_.cells(b)));
+    for (int i = 0; i < grid_.cells(b); ++i) ps[static_cast<std::size_t>(i)] = 1.0 / (grid_.centre(b, i + 1) - grid_.centre(b, i - 1));
+    stride[b] = grid_.stride(b);
+  }
   parallel::forEachCell(n0, n1, n2, useThreads(), weights_balance_, [&](int i, int j, int k) {
     const std::size_t c = grid_.index(i, j, k);
     const int idx[3] = {i, j, k};
     for (int m = 0; m < M; ++m) {
-      const auto& al = fields_[static_cast<std::size_t>(m)].alpha;
+      const double* al = fields_[static_cast<std::size_t>(m)].alpha.data();
       // Only a mixed cell's weight is written: where a material fills the cell its weight is 1,
       // which the gather takes without reading it, and where it is absent no kernel reads it
       // (most cells are one material's: their weights were most of this pass's stores).
       if (al[c] <= 0.0 || al[c] >= 1.0) continue;
-      double& w = wlic_[static_cast<std::size_t>(m) * total + c];
       double nd = 0.0, nsum = 0.0;
       for (int b = 0; b < dims; ++b) {
-        int lo[3] = {i, j, k}, hi[3] = {i, j, k};
-        lo[b] -= 1;
-        hi[b] += 1;
-        const double g = std::abs((al[grid_.index(hi[0], hi[1], hi[2])] - al[grid_.index(lo[0], lo[1], lo[2])]) /
-                                  (grid_.centre(b, idx[b] + 1) - grid_.centre(b, idx[b] - 1)));
+        const double g = std::abs(al[c + static_cast<std::size_t>(stride[b])] - al[c - static_cast<std::size_t>(stride[b])]) *
+                         per_span[static_cast<std::size_t>(b)][static_cast<std::size_t>(idx[b])];
         nsum += g;
         if (b == d) nd = g;
       }
-      w = nsum > 0.0 ? nd / nsum : 1.0;
+      wlic_[static_cast<std::size_t>(m) * total + c] = nsum > 0.0 ? nd / nsum : 1.0;
     }
   });
 }
@@ -1169,10 +1174,14 @@ std::size_t Solver::scatterPencil(const Pencil& P, int d, std::size_t base, Penc
       m += mk_new[k];
       vs += vk_new[k];
     }
-    double mom[3], u2 = 0.0;
+    // one division per cell and one per material, the rest products (the divider is the
+    // scatter's slowest unit: up to ten quotients per material and cell took it)
+    const double inv_m = 1.0 / m;
+    double mom[3], u_new[3], u2 = 0.0;
     for (std::size_t q = 0; q < 3; ++q) {
       mom[q] = P.mom[q][si] + P.fmom[q][si] - P.fmom[q][si + 1];
-      u2 += mom[q] * mom[q] / (m * m);
+      u_new[q] = mom[q] * inv_m;
+      u2 += u_new[q] * u_new[q];
     }
     // The kinetic energy the remap took from the flow is returned as heat, by material.
     double heat = lost, loss[kMaxMaterials], add[kMaxMaterials];
@@ -1222,13 +1231,14 @@ std::size_t Solver::scatterPencil(const Pencil& P, int d, std::size_t base, Penc
       F.rho[c] = mk_new[k] / (al * V);
       F.e[c] = ie_new[k] / mk_new[k];
       // history and deviatoric stress are the material's own: the fragments' do not mix in
-      F.h0[c] = (P.h[ki] * P.mk[ki] + P.fh[kf] - P.fh[kf + 1]) / mk_own[k];
+      const double per_own = 1.0 / mk_own[k];
+      F.h0[c] = (P.h[ki] * P.mk[ki] + P.fh[kf] - P.fh[kf + 1]) * per_own;
       if (!F.s[0].empty())
-        for (std::size_t q = 0; q < 6; ++q) F.s[q][c] = (P.s[q][ki] * P.mk[ki] + P.fs[q][kf] - P.fs[q][kf + 1]) / mk_own[k];
+        for (std::size_t q = 0; q < 6; ++q) F.s[q][c] = (P.s[q][ki] * P.mk[ki] + P.fs[q][kf] - P.fs[q][kf + 1]) * per_own;
       ok = ok && std::isfinite(F.rho[c]) && F.rho[c] > 0.0 && std::isfinite(F.e[c]);
     }
     for (std::size_t q = 0; q < 3; ++q) {
-      u_[q][c] = mom[q] / m;
+      u_[q][c] = u_new[q];
       ok = ok && std::isfinite(u_[q][c]);
     }
     if (!ok && c < bad) bad = c;

@@ -61,9 +61,14 @@ struct DetonationPoint {
 // 13: the time step takes a cell's frozen (Voigt) mixture speed alone; a material's own speed no
 // longer counts where it holds 1% of the cell's mass (docs/solver.md, "Revision 13: the step of a
 // mixed cell").
+// 14: the same physics in fewer operations, results moved at round-off: THINC's flux as the log of
+// one ratio (an exp per face shared by its materials, where six calls per material were made),
+// one power per gas in the mixed-cell closure (step 1's polytrope serves step 2's pressure), and
+// reciprocals for repeated quotients in the closure, the remap, the scatter and the interface
+// weights (docs/solver.md, "Revision 14").
 // `ejecta validate --reuse` reruns a case saved by another revision; a checkpoint of another
 // revision is refused (its energy books differ in layout too).
-inline constexpr int kSolverRevision = 13;
+inline constexpr int kSolverRevision = 14;
 
 inline constexpr int kMaxSweepTile = 64;   // the widest tile of pencils a sweep takes (SolverOptions::sweep_tile)
 
