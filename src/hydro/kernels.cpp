@@ -71,15 +71,16 @@ double thincOutflow(double a, double a_lo, double a_hi, ThincFace& face) {
   const auto capped = [&](double x) { return std::min(std::max(x, lo_cap), hi_cap); };
   // No interface to sharpen where the neighbours do not bracket the cell: the donor mean.
   if (a < 1e-6 || a > 1.0 - 1e-6 || (a_hi - a) * (a - a_lo) <= 0.0) return capped(a * b);
-  const ThincProfile& th = face.th;
+  const ThincProfile& th = face.th;   // the face's own copy
   const double beta = th.beta;
   const double gamma = a_hi > a_lo ? 1.0 : -1.0;
   const double q = 2.0 * beta * gamma * (a - 0.5);   // gamma = +-1, so 1/gamma = gamma
   const double eq = std::exp(q);
   // t = exp(2 beta xc), xc the profile's centre. The flux is the integral of the tanh profile,
   // a difference of two ln cosh; that difference is the log of a ratio of cosh, which in t is a
-  // ratio of two sums of positive terms (no cancellation): one log here, and one exp per face
-  // shared by its materials, where the two ln cosh took four calls and the centre's log one more.
+  // ratio of two sums of positive terms: one log here, and one exp per face shared by its
+  // materials, where the two ln cosh took four calls and the centre's log one more. (Both forms
+  // carry about 1e-16 of absolute error, which at swept fractions under 1e-8 is most of a tiny flux.)
   const double t = (th.exp_beta - eq) / (eq - th.exp_minus_beta);
   const double ef = face.exponential();
   const double ratio = face.out_high ? (th.exp_beta + t * th.exp_minus_beta) / (ef + t / ef) : (ef + t / ef) / (1.0 + t);
@@ -386,8 +387,8 @@ void solveFaces(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
 // ------------------------------------------------------------------------------------------------
 
 namespace {
-// volumeWork with the polytrope's pressure ratio (1 + x)^-G from `ratio()`, which the closure
-// computes once for its steps 1 and 2 (one power instead of two for a gas).
+// volumeWork with the polytrope's power (1 + x)^-G from `ratio(x)`, x = dv / v0 (for a compression
+// no lower than -0.999), which the closure keeps for its step 2 (one power instead of two for a gas).
 template <class Ratio>
 double polytropeWork(double p, double K, double v0, double dv, Ratio&& ratio) {
   if (dv < 0.0 && v0 > 0.0 && p > 0.0) {
@@ -397,14 +398,14 @@ double polytropeWork(double p, double K, double v0, double dv, Ratio&& ratio) {
     // adiabat on every compression, and the shortfall went to the sand (revision 4 measured the
     // confined products' energy at 10 ms: -4.7 kJ with the first-order credit, +129 kJ with this).
     const double x = std::max(dv / v0, -0.999), G = K / p;
-    if (G > 1.0 + 1e-6 && G < 4.0) return p * v0 * (ratio() * (1.0 + x) - 1.0) / (G - 1.0);
+    if (G > 1.0 + 1e-6 && G < 4.0) return p * v0 * (ratio(x) * (1.0 + x) - 1.0) / (G - 1.0);
     return -(p - 0.5 * K * x) * dv;
   }
   if (!(dv > 0.0) || !(p > 0.0) || !(v0 > 0.0)) return -p * dv;
   const double x = dv / v0, G = K / p;
   const double gm1 = std::max(G - 1.0, 1e-6);
   if (gm1 * x < 1e-6) return -p * dv * (1.0 - 0.5 * (gm1 + 1.0) * x);   // series for small steps
-  const double power = gm1 == G - 1.0 ? ratio() * (1.0 + x) : std::pow(1.0 + x, -gm1);   // (1 + x)^(1 - G)
+  const double power = gm1 == G - 1.0 ? ratio(x) * (1.0 + x) : std::pow(1.0 + x, -gm1);   // (1 + x)^(1 - G)
   return -p * v0 * (1.0 - power) / gm1;
 }
 }  // namespace
@@ -417,7 +418,7 @@ double polytropeWork(double p, double K, double v0, double dv, Ratio&& ratio) {
 // polytrope it gives at most p v0 / (G - 1), which for an ideal gas (and JWL products far out) is
 // all it holds.
 double volumeWork(double p, double K, double v0, double dv) {
-  return polytropeWork(p, K, v0, dv, [&] { return std::pow(1.0 + std::max(dv / v0, -0.999), -K / p); });
+  return polytropeWork(p, K, v0, dv, [&](double x) { return std::pow(1.0 + x, -K / p); });
 }
 
 void closeMixedCell(MixedCell& c, double V, double Vl, double die) {
@@ -471,13 +472,15 @@ void closeMixedCell(MixedCell& c, double V, double Vl, double die) {
     for (int k = 0; k < M; ++k)
       if (held[k]) remaining -= dv[k];
   }
-  double ratio[kMaxMaterials];   // (1 + x)^-G where step 1 took it (a gas), for step 2; else -1
+  // (1 + x)^-G where step 1 took it (a gas, or a stiff material expanding), else -1: step 2's
+  // pressure of a gas. Step 1 keeps x >= -0.95, so the x it was taken at is step 2's.
+  double ratio[kMaxMaterials];
   for (int k = 0; k < M; ++k) {
     c.v[k] = c.alpha[k] * V + dv[k];
     ratio[k] = -1.0;
     if (c.alpha[k] > kAlphaMin) {
-      const double v0 = c.alpha[k] * V, x = dv[k] / v0;
-      const double wk = polytropeWork(c.p[k], c.K[k], v0, dv[k], [&] { return ratio[k] = std::pow(1.0 + x, -c.K[k] / c.p[k]); });
+      const double v0 = c.alpha[k] * V;
+      const double wk = polytropeWork(c.p[k], c.K[k], v0, dv[k], [&](double x) { return ratio[k] = std::pow(1.0 + x, -c.K[k] / c.p[k]); });
       c.ie[k] += wk;
       work += wk;
     }
@@ -840,8 +843,10 @@ void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     const double per_raw = raw_sum > 0.0 ? target / raw_sum : 0.0;
     for (int k = 0; k < M; ++k) {
       const std::size_t kD = P.at(k, D);
-      // (a material with no profile here takes nothing: +0)
-      dvk[k] = raw_sum > 0.0 ? (raw[k] == 0.0 ? 0.0 : raw[k] * per_raw) : (held > 0.0 ? P.vk[kD] / held * target : target / M);
+      // (a material with no profile here takes nothing: +0; one that has the whole of it, a pure
+      // donor's, the swept volume exactly)
+      dvk[k] = raw_sum > 0.0 ? (raw[k] == 0.0 ? 0.0 : (raw[k] == raw_sum ? target : raw[k] * per_raw))
+                             : (held > 0.0 ? P.vk[kD] / held * target : target / M);
       if (dvk[k] > P.vk[kD]) {
         excess += dvk[k] - P.vk[kD];
         dvk[k] = P.vk[kD];
@@ -887,9 +892,10 @@ void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     const double keep_m = dm > 0.0 ? std::clamp((P.mass[sD] - dm) / dm, 0.0, 1.0) : 1.0;
     double uf2 = 0.0;
     const double per_mass = 1.0 / P.mass[sD];
+    const bool by_product = std::isfinite(per_mass);   // a subnormal mass: the quotient itself
     for (std::size_t q = 0; q < 3; ++q) {
       const auto& uq = P.u[q];
-      double uf = P.mom[q][sD] * per_mass;
+      double uf = by_product ? P.mom[q][sD] * per_mass : P.mom[q][sD] / P.mass[sD];
       if (second) uf += keep_m * offset * vanLeer((uq[sD] - uq[sD - 1]) * S.inv_dx[sD], (uq[sD + 1] - uq[sD]) * S.inv_dx[sD + 1]);
       P.fmom[q][sf] = sign * dm * uf;
       uf2 += uf * uf;

@@ -225,7 +225,7 @@ struct ThincFace {
   }
   double b;
   bool out_high;
-  const ThincProfile& th;
+  ThincProfile th;   // a copy (three numbers): a face never outlives its profile's temporary
   double e = 0.0;
 };
 double thincOutflow(double a, double a_lo, double a_hi, ThincFace& face);

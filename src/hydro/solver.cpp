@@ -1176,11 +1176,13 @@ std::size_t Solver::scatterPencil(const Pencil& P, int d, std::size_t base, Penc
     }
     // one division per cell and one per material, the rest products (the divider is the
     // scatter's slowest unit: up to ten quotients per material and cell took it)
+    // (a subnormal mass, whose reciprocal is not finite: the quotients themselves)
     const double inv_m = 1.0 / m;
+    const bool by_product = std::isfinite(inv_m);
     double mom[3], u_new[3], u2 = 0.0;
     for (std::size_t q = 0; q < 3; ++q) {
       mom[q] = P.mom[q][si] + P.fmom[q][si] - P.fmom[q][si + 1];
-      u_new[q] = mom[q] * inv_m;
+      u_new[q] = by_product ? mom[q] * inv_m : mom[q] / m;
       u2 += u_new[q] * u_new[q];
     }
     // The kinetic energy the remap took from the flow is returned as heat, by material.
@@ -1232,9 +1234,10 @@ std::size_t Solver::scatterPencil(const Pencil& P, int d, std::size_t base, Penc
       F.e[c] = ie_new[k] / mk_new[k];
       // history and deviatoric stress are the material's own: the fragments' do not mix in
       const double per_own = 1.0 / mk_own[k];
-      F.h0[c] = (P.h[ki] * P.mk[ki] + P.fh[kf] - P.fh[kf + 1]) * per_own;
+      const auto own = [&](double held) { return std::isfinite(per_own) ? held * per_own : held / mk_own[k]; };
+      F.h0[c] = own(P.h[ki] * P.mk[ki] + P.fh[kf] - P.fh[kf + 1]);
       if (!F.s[0].empty())
-        for (std::size_t q = 0; q < 6; ++q) F.s[q][c] = (P.s[q][ki] * P.mk[ki] + P.fs[q][kf] - P.fs[q][kf + 1]) * per_own;
+        for (std::size_t q = 0; q < 6; ++q) F.s[q][c] = own(P.s[q][ki] * P.mk[ki] + P.fs[q][kf] - P.fs[q][kf + 1]);
       ok = ok && std::isfinite(F.rho[c]) && F.rho[c] > 0.0 && std::isfinite(F.e[c]);
     }
     for (std::size_t q = 0; q < 3; ++q) {
