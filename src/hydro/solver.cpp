@@ -1175,7 +1175,7 @@ std::size_t Solver::scatterPencil(const Pencil& P, int d, std::size_t base, Penc
       vs += vk_new[k];
     }
     // one division per cell and one per material, the rest products (the divider is the
-    // scatter's slowest unit: up to ten quotients per material and cell took it)
+    // scatter's slowest unit: up to nine quotients per material and cell took it)
     // (a subnormal mass, whose reciprocal is not finite: the quotients themselves)
     const double inv_m = 1.0 / m;
     const bool by_product = std::isfinite(inv_m);

@@ -61,10 +61,11 @@ struct DetonationPoint {
 // 13: the time step takes a cell's frozen (Voigt) mixture speed alone; a material's own speed no
 // longer counts where it holds 1% of the cell's mass (docs/solver.md, "Revision 13: the step of a
 // mixed cell").
-// 14: the same physics in fewer operations, results moved at round-off: THINC's flux as the log of
-// one ratio (an exp per face shared by its materials, where six calls per material were made),
-// one power per gas in the mixed-cell closure (step 1's polytrope serves step 2's pressure), and
-// reciprocals for repeated quotients in the closure, the remap, the scatter and the interface
+// 14: the same physics in fewer operations, results moved at round-off (grown to 0.2% over a 10 ms
+// 3D run; docs/validate.md): THINC's flux as the log of one ratio (an exp and a log per material
+// plus an exp per face shared by its materials, where six calls per material were made), one power
+// per gas in the mixed-cell closure (step 1's polytrope serves step 2's pressure), quotients taken
+// once in the closure, and products by a reciprocal in the remap, the scatter and the interface
 // weights (docs/solver.md, "Revision 14").
 // `ejecta validate --reuse` reruns a case saved by another revision; a checkpoint of another
 // revision is refused (its energy books differ in layout too).
