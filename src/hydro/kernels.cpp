@@ -891,11 +891,10 @@ void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     }
     const double keep_m = dm > 0.0 ? std::clamp((P.mass[sD] - dm) / dm, 0.0, 1.0) : 1.0;
     double uf2 = 0.0;
-    const double per_mass = 1.0 / P.mass[sD];
-    const bool by_product = std::isfinite(per_mass);   // a subnormal mass: the quotient itself
+    const Reciprocal per_mass(P.mass[sD]);
     for (std::size_t q = 0; q < 3; ++q) {
       const auto& uq = P.u[q];
-      double uf = by_product ? P.mom[q][sD] * per_mass : P.mom[q][sD] / P.mass[sD];
+      double uf = per_mass.of(P.mom[q][sD]);
       if (second) uf += keep_m * offset * vanLeer((uq[sD] - uq[sD - 1]) * S.inv_dx[sD], (uq[sD + 1] - uq[sD]) * S.inv_dx[sD + 1]);
       P.fmom[q][sf] = sign * dm * uf;
       uf2 += uf * uf;

@@ -214,6 +214,15 @@ struct ThincProfile {
   double beta, exp_beta, exp_minus_beta;
 };
 double thincOutflow(double a, double a_lo, double a_hi, double b, bool out_high, const ThincProfile& profile);
+// x / d for several x: products by 1 / d, taken once (a divider is far slower than a multiplier),
+// or the quotients themselves where d is subnormal and its reciprocal not finite.
+struct Reciprocal {
+  explicit Reciprocal(double divisor) : d(divisor), inv(1.0 / divisor), finite(std::isfinite(inv)) {}
+  double of(double x) const { return finite ? x * inv : x / d; }
+  double d, inv;
+  bool finite;
+};
+
 // One face of a remap: the swept fraction, the side it leaves by, and the profile's exponential of
 // the face (exp(beta (1 - b)) through the high face, exp(beta b) through the low one), taken once
 // when a material first needs it and then shared by the face's other materials.

@@ -1176,13 +1176,11 @@ std::size_t Solver::scatterPencil(const Pencil& P, int d, std::size_t base, Penc
     }
     // one division per cell and one per material, the rest products (the divider is the
     // scatter's slowest unit: up to nine quotients per material and cell took it)
-    // (a subnormal mass, whose reciprocal is not finite: the quotients themselves)
-    const double inv_m = 1.0 / m;
-    const bool by_product = std::isfinite(inv_m);
+    const Reciprocal per_m(m);
     double mom[3], u_new[3], u2 = 0.0;
     for (std::size_t q = 0; q < 3; ++q) {
       mom[q] = P.mom[q][si] + P.fmom[q][si] - P.fmom[q][si + 1];
-      u_new[q] = by_product ? mom[q] * inv_m : mom[q] / m;
+      u_new[q] = per_m.of(mom[q]);
       u2 += u_new[q] * u_new[q];
     }
     // The kinetic energy the remap took from the flow is returned as heat, by material.
@@ -1233,11 +1231,10 @@ std::size_t Solver::scatterPencil(const Pencil& P, int d, std::size_t base, Penc
       F.rho[c] = mk_new[k] / (al * V);
       F.e[c] = ie_new[k] / mk_new[k];
       // history and deviatoric stress are the material's own: the fragments' do not mix in
-      const double per_own = 1.0 / mk_own[k];
-      const auto own = [&](double held) { return std::isfinite(per_own) ? held * per_own : held / mk_own[k]; };
-      F.h0[c] = own(P.h[ki] * P.mk[ki] + P.fh[kf] - P.fh[kf + 1]);
+      const Reciprocal per_own(mk_own[k]);
+      F.h0[c] = per_own.of(P.h[ki] * P.mk[ki] + P.fh[kf] - P.fh[kf + 1]);
       if (!F.s[0].empty())
-        for (std::size_t q = 0; q < 6; ++q) F.s[q][c] = own(P.s[q][ki] * P.mk[ki] + P.fs[q][kf] - P.fs[q][kf + 1]);
+        for (std::size_t q = 0; q < 6; ++q) F.s[q][c] = per_own.of(P.s[q][ki] * P.mk[ki] + P.fs[q][kf] - P.fs[q][kf + 1]);
       ok = ok && std::isfinite(F.rho[c]) && F.rho[c] > 0.0 && std::isfinite(F.e[c]);
     }
     for (std::size_t q = 0; q < 3; ++q) {
