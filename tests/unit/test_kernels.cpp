@@ -437,6 +437,18 @@ double thincByQuadrature(double a, double b, bool increasing, bool out_high, dou
   return out_high ? integral(xc, 1.0 - b, 1.0) : integral(xc, 0.0, b);
 }
 
+// The remap's and the scatter's x / d: a product by 1 / d for a normal divisor, and for a subnormal
+// one (whose reciprocal overflows) the quotient itself, which stays finite.
+TEST(Kernels, ReciprocalIsTheProductOrWhereItOverflowsTheQuotient) {
+  const hydro::Reciprocal three(3.0);
+  EXPECT_EQ(three.of(2.0), 2.0 * (1.0 / 3.0));
+  const double tiny = std::numeric_limits<double>::denorm_min() * 8.0;   // 1 / tiny is not finite
+  const hydro::Reciprocal sub(tiny);
+  EXPECT_FALSE(std::isfinite(1.0 / tiny));
+  EXPECT_EQ(sub.of(tiny * 4.0), 4.0);
+  EXPECT_TRUE(std::isfinite(sub.of(1e-310)));
+}
+
 // THINC's flux as revision 13 computed it, the difference of two ln cosh of the profile's
 // arguments (the reference for revision 14's one log of a ratio).
 double thincByLnCosh(double a, double a_lo, double a_hi, double b, bool out_high, double beta) {
