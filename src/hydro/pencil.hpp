@@ -50,6 +50,11 @@ struct Pencil {
   // pressure of an expanding dusty cell far below the cell's own, by an amount proportional to the
   // step (docs/solver.md, The predictor).
   std::vector<double> Kp;
+  // mixture_reuss only: a mixed cell's shock slope (kg/m3), its impedance under a compression du
+  // being Z + zs du; rho_mix over the fraction of its volume that takes a compression (`soft`, the
+  // gather's sum alpha^2 / K until it is used); 0 in a cell of one material.
+  std::vector<double> zs, soft;
+  std::vector<double> p_per_k;   // mixture_reuss only: the gather's sum alpha_k p_k / K_k over the materials above kAlphaMin
   std::vector<double> pmin;                   // the cell's tension limit (volume weighted): a wall's floor
   std::array<std::vector<double>, 2> shear;   // mixture s_{d,t} for the two transverse axes
   std::vector<double> a, r, e, h, pk, kk, wl;   // per material: alpha, rho, e, history, p, rho c^2, WLIC weight
@@ -102,6 +107,7 @@ struct SweepSetup {
   // Where an end is the domain's boundary, whether its ghosts copy the boundary cell (an outflow
   // side) rather than mirror the interior (a reflecting wall, the axis).
   bool lo_ghosts_copy = false, hi_ghosts_copy = false;
+  bool mixture_reuss = false;   // SolverOptions::mixture_reuss: the faces' shock impedance (Pencil::zs)
 };
 
 // Energy booked by one pencil in one sweep, J (axisymmetric: per radian).

@@ -380,38 +380,85 @@ Totals Solver::totals() const { return totalsOf(columnTotals()); }
 // 1% of the cell's mass, and a dust of sand in thin products set the V-plates' late steps at the
 // sand's own 3.2 km/s; docs/solver.md, "Revision 13: the step of a mixed cell"). A material's own
 // speed is at most 1/sqrt(Y_k) times the mixture's.
-static double cellSignalSpeed2(const std::vector<materials::Material>& mats, const std::vector<MaterialFields>& fields, std::size_t c) {
-  double kv = 0.0, rho_mix = 0.0;
+// With SolverOptions::mixture_reuss a mixed cell's bulk stiffness is instead the Reuss modulus
+// K_R = 1 / sum(alpha_k / K_k) that the closure's sharing by compressibility answers a volume change
+// with, plus the dilution stiffness D = max(0, sum alpha_k p_k - K_R sum alpha_k p_k / K_k) of a cell
+// out of pressure equilibrium (the soft material takes an expansion and the stiff one's share of the
+// mean pressure falls with its fraction; zero at one pressure), plus sum alpha_k 4/3 G_k (each
+// material's deviator follows the cell's strain). `soft` (else 0) is then the fraction of the cell's
+// volume that a compression closes: sum alpha_k w_k, w_k = (alpha_k / K_k) K_R.
+struct CellSignal {
+  double c2 = 0.0;     // m2/s2
+  double soft = 0.0;   // -: 0 in a cell of one material or without mixture_reuss
+};
+static CellSignal cellSignal(const std::vector<materials::Material>& mats, const std::vector<MaterialFields>& fields, std::size_t c, bool reuss) {
+  double kv = 0.0, rho_mix = 0.0, compliance = 0.0, soft_sum = 0.0, shear = 0.0, p_sum = 0.0, p_per_k = 0.0;
+  int present = 0;
   for (std::size_t q = 0; q < fields.size(); ++q) {
     const auto& f = fields[q];
     rho_mix += f.alpha[c] * f.rho[c];
     if (f.alpha[c] <= kAlphaMin) continue;
+    ++present;
     const auto st = materials::evaluateEos(mats[q], f.rho[c], f.e[c], f.h0[c]);
     double kk = st.bulk;
+    if (reuss && kk > 0.0) {
+      compliance += f.alpha[c] / kk;
+      soft_sum += f.alpha[c] * f.alpha[c] / kk;
+      p_per_k += f.alpha[c] * st.pressure / kk;
+    }
+    p_sum += f.alpha[c] * st.pressure;
     if (mats[q].hasStrength()) {
-      kk += 4.0 / 3.0 * materials::shearModulus(mats[q], f.h0[c], st.pressure);
+      const double g4 = 4.0 / 3.0 * materials::shearModulus(mats[q], f.h0[c], st.pressure);
+      kk += g4;
+      shear += f.alpha[c] * g4;
     }
     kv += f.alpha[c] * kk;
   }
-  return kv / rho_mix;
+  if (!reuss || present < 2 || !(compliance > 0.0)) return {kv / rho_mix, 0.0};
+  const double k_r = 1.0 / compliance;
+  return {(k_r + std::max(p_sum - k_r * p_per_k, 0.0) + shear) / rho_mix, soft_sum * k_r};
+}
+
+// The time one cell allows along each axis. With a soft fraction (mixture_reuss) a compression
+// closes it as a snow-plough shock, whose speed over the gas-laden cell is |du| / alpha_soft: the
+// closing speed across the cell (its neighbours' velocities, a body's own where the neighbour is
+// the body) adds that to the cell's signal speed, so that a step closes at most a Courant number's
+// share of the soft volume. The neighbours are read after prepareStepNeighbours.
+double Solver::cellStepTime(int i, int j, int k) const {
+  const std::size_t c = grid_.index(i, j, k);
+  double least = std::numeric_limits<double>::infinity();
+  if (isBody(c)) return least;
+  const auto sig = cellSignal(mats_, fields_, c, opt_.mixture_reuss);
+  const double cs = std::sqrt(sig.c2);
+  const int idx[3] = {i, j, k};
+  for (int d = 0; d < grid_.dims(); ++d) {
+    const auto& ud = u_[static_cast<std::size_t>(d)];
+    double speed = std::abs(ud[c]) + cs + 1e-30;
+    if (sig.soft > 0.0) {
+      const std::size_t st = grid_.stride(d);
+      const double body_u = body_velocity_[static_cast<std::size_t>(d)];
+      const double lo = isBody(c - st) ? body_u : ud[c - st], hi = isBody(c + st) ? body_u : ud[c + st];
+      speed += std::max(lo - hi, 0.0) / sig.soft;
+    }
+    const double t = grid_.width(d, idx[d]) / speed;
+    least = t < least ? t : least;
+  }
+  return least;
 }
 
 double Solver::stableTimeStep() const {
-  const int dims = grid_.dims();
-  double dt = parallel::minOverCells(grid_.cells(0), grid_.cells(1), grid_.cells(2), useThreads(), step_balance_, [this, dims](int i, int j, int k) {
-    const std::size_t c = grid_.index(i, j, k);
-    double least = std::numeric_limits<double>::infinity();
-    if (isBody(c)) return least;
-    const double cs = std::sqrt(cellSignalSpeed2(mats_, fields_, c));
-    const int idx[3] = {i, j, k};
-    for (int d = 0; d < dims; ++d) {
-      const double t = grid_.width(d, idx[d]) / (std::abs(u_[static_cast<std::size_t>(d)][c]) + cs + 1e-30);
-      least = t < least ? t : least;
-    }
-    return least;
-  });
+  double dt = parallel::minOverCells(grid_.cells(0), grid_.cells(1), grid_.cells(2), useThreads(), step_balance_,
+                                     [this](int i, int j, int k) { return cellStepTime(i, j, k); });
   if (exchange_) dt = exchange_->minimum(dt);
   return opt_.cfl * dt;
+}
+
+// The step's neighbour velocities (cellStepTime, mixture_reuss only): the neighbouring slabs' and the
+// boundaries' ghosts as they are now, so that a slab's step is the whole's.
+void Solver::prepareStepNeighbours() {
+  if (!opt_.mixture_reuss) return;
+  if (exchange_) exchangeHalo(false);
+  for (int d = 0; d < grid_.dims(); ++d) fillGhosts(d, GhostFill::StatesAndVelocity);
 }
 
 std::string Solver::describeLimitingCell() const {
@@ -420,16 +467,10 @@ std::string Solver::describeLimitingCell() const {
   for (int i = 0; i < grid_.cells(0); ++i)
     for (int j = 0; j < grid_.cells(1); ++j)
       for (int k = 0; k < grid_.cells(2); ++k) {
-        const std::size_t c = grid_.index(i, j, k);
-        if (isBody(c)) continue;
-        const double cs = std::sqrt(cellSignalSpeed2(mats_, fields_, c));
-        const int idx[3] = {i, j, k};
-        for (int d = 0; d < grid_.dims(); ++d) {
-          const double t = grid_.width(d, idx[d]) / (std::abs(u_[static_cast<std::size_t>(d)][c]) + cs + 1e-30);
-          if (t < best) {
-            best = t;
-            cell = c;
-          }
+        const double t = cellStepTime(i, j, k);
+        if (t < best) {
+          best = t;
+          cell = grid_.index(i, j, k);
         }
       }
   const auto ix = grid_.unflatten(cell);
@@ -909,10 +950,14 @@ void Solver::updateStress(double dt) {
 namespace {
 // One material's share of the cells' mixture (gatherPencil): density, pressure, stiffness (the
 // Voigt sum, and the Reuss sum of compliances over fractions above kAlphaMin) and tension limit by
-// volume fraction, added in the materials' order (an absent one adds zeros).
+// volume fraction, added in the materials' order (an absent one adds zeros). With Reuss (the
+// mixture_reuss option) also sum alpha^2 / K (the soft fraction's) and sum alpha p / K (the
+// dilution stiffness's).
+template <bool Reuss>
 [[gnu::noinline]] void addToMixture(std::ptrdiff_t n, double tension, const double* __restrict a, const double* __restrict r,
                                     const double* __restrict pk, const double* __restrict kk, double* __restrict rho, double* __restrict p,
-                                    double* __restrict kv, double* __restrict compliance, double* __restrict present, double* __restrict pmin) {
+                                    double* __restrict kv, double* __restrict compliance, double* __restrict soft, double* __restrict p_per_k,
+                                    double* __restrict present, double* __restrict pmin) {
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     const double al = a[i] > 0.0 ? a[i] : 0.0;
     rho[i] += al * r[i];
@@ -920,6 +965,10 @@ namespace {
     kv[i] += al * kk[i];
     const bool counts = al > kAlphaMin;
     compliance[i] += counts && kk[i] > 0.0 ? al / kk[i] : 0.0;
+    if constexpr (Reuss) {
+      soft[i] += counts && kk[i] > 0.0 ? al * al / kk[i] : 0.0;
+      p_per_k[i] += counts && kk[i] > 0.0 ? al * pk[i] / kk[i] : 0.0;
+    }
     present[i] += counts ? 1.0 : 0.0;
     pmin[i] += al * tension;
   }
@@ -948,6 +997,7 @@ void Solver::gatherPencil(Pencil& P, int d, const PencilSource& src, int a, int 
   const int t1 = S.t1, t2 = S.t2;
   const int s_dt1 = stressIndex(d, t1), s_dt2 = stressIndex(d, t2);
   const bool radial = grid_.curvilinear() && d == 0, spherical = grid_.spherical();
+  const bool reuss = opt_.mixture_reuss;
   // geometry: areas and volumes from the transverse measure of the pencil
   double trans = grid_.width(t1, a) * grid_.width(t2, b);
   if (grid_.axisymmetric()) {
@@ -992,7 +1042,7 @@ void Solver::gatherPencil(Pencil& P, int d, const PencilSource& src, int a, int 
     const std::size_t si = static_cast<std::size_t>(i);
     for (std::size_t q = 0; q < 3; ++q) P.u[q][si] = src.u[q][c];
     P.solid[si] = src.solid ? src.solid[c] : 0;
-    P.rho[si] = P.P[si] = P.K[si] = P.Kp[si] = P.present[si] = P.pmin[si] = P.hoop[si] = P.shear[0][si] = P.shear[1][si] = P.sum_snn[si] = P.sum_s11[si] = 0.0;
+    P.rho[si] = P.P[si] = P.K[si] = P.Kp[si] = P.soft[si] = P.p_per_k[si] = P.present[si] = P.pmin[si] = P.hoop[si] = P.shear[0][si] = P.shear[1][si] = P.sum_snn[si] = P.sum_s11[si] = 0.0;
   }
   for (int k = 0; k < M; ++k) {
     const auto km = static_cast<std::size_t>(P.mat[k]);
@@ -1027,8 +1077,8 @@ void Solver::gatherPencil(Pencil& P, int d, const PencilSource& src, int a, int 
     const std::size_t k0 = P.at(k, 0);
     materials::evaluateEosAndHistory(mat, N, P.a.data() + k0, P.r.data() + k0, P.e.data() + k0, P.h.data() + k0, P.pk.data() + k0,
                                      P.kk.data() + k0);
-    addToMixture(N, materials::tensionLimit(mat), P.a.data() + k0, P.r.data() + k0, P.pk.data() + k0, P.kk.data() + k0, P.rho.data(),
-                 P.P.data(), P.K.data(), P.Kp.data(), P.present.data(), P.pmin.data());
+    (reuss ? addToMixture<true> : addToMixture<false>)(N, materials::tensionLimit(mat), P.a.data() + k0, P.r.data() + k0, P.pk.data() + k0, P.kk.data() + k0, P.rho.data(),
+                 P.P.data(), P.K.data(), P.Kp.data(), P.soft.data(), P.p_per_k.data(), P.present.data(), P.pmin.data());
     if (strength)
       addStressToMixture(N, P.a.data() + k0, P.s[static_cast<std::size_t>(d)].data() + k0, P.s[2].data() + k0, P.s[1].data() + k0,
                          P.s[static_cast<std::size_t>(s_dt1)].data() + k0, P.s[static_cast<std::size_t>(s_dt2)].data() + k0,
@@ -1039,10 +1089,22 @@ void Solver::gatherPencil(Pencil& P, int d, const PencilSource& src, int a, int 
     const double p = P.P[si], stt = P.hoop[si];
     P.P[si] = p - P.sum_snn[si];
     P.hoop[si] = p - (spherical ? 0.5 * (stt + P.sum_s11[si]) : stt);
-    P.Z[si] = std::sqrt(std::max(P.rho[si] * P.K[si], 1e-30));
     // Until here P.Kp holds the sum of compliances. A cell of one material (fragments aside) keeps
     // K, the same to the bit whichever materials its pencil carries.
-    P.Kp[si] = P.present[si] > 1.0 && P.Kp[si] > 0.0 ? 1.0 / P.Kp[si] : P.K[si];
+    const bool mixed = P.present[si] > 1.0 && P.Kp[si] > 0.0;
+    if (!reuss) {
+      P.Z[si] = std::sqrt(std::max(P.rho[si] * P.K[si], 1e-30));
+      P.Kp[si] = mixed ? 1.0 / P.Kp[si] : P.K[si];
+      continue;
+    }
+    P.Kp[si] = mixed ? 1.0 / P.Kp[si] : P.K[si];
+    // mixture_reuss: the faces' impedance from the stiffness the closure answers with (cellSignal):
+    // K_R plus the dilution stiffness sum alpha_k p_k - K_R sum alpha_k p_k / K_k of a cell out of
+    // pressure equilibrium; compressed hard, the soft fraction closes and the impedance rises by
+    // rho |du| / alpha_soft (a snow-plough shock's; solveFaces), zs = rho / alpha_soft.
+    const double dilution = mixed ? std::max(p - P.Kp[si] * P.p_per_k[si], 0.0) : 0.0;
+    P.Z[si] = std::sqrt(std::max(P.rho[si] * (P.Kp[si] + dilution), 1e-30));
+    P.zs[si] = mixed ? P.rho[si] / std::max(P.soft[si] * P.Kp[si], 1e-3) : 0.0;   // P.soft holds sum alpha^2 / K
   }
 }
 
@@ -1262,6 +1324,7 @@ void Solver::sweep(int d, double dt) {
   S.materials = M;
   S.second_order = opt_.second_order;
   S.thinc_beta = opt_.thinc_beta;
+  S.mixture_reuss = opt_.mixture_reuss;
   S.gravity = opt_.gravity[static_cast<std::size_t>(d)];
   S.wall_velocity = body_velocity_;
   S.friction = body_.empty() ? 0.0 : opt_.body_friction;
@@ -1518,6 +1581,7 @@ Vec3 Solver::wholeBodyLoad() {
 }
 
 double Solver::nextTimeStep(double stop) {
+  prepareStepNeighbours();
   double dt = stableTimeStep();
   dt = dt_free_ > 0.0 ? std::min(dt, 1.2 * dt_free_) : dt * opt_.initial_dt_fraction;
   dt = std::min(dt, opt_.max_dt);

@@ -84,6 +84,12 @@ struct SolverOptions {
   double max_dt = 1.0;                   // s
   double min_dt = 1e-14;                 // s: below this the step has collapsed and the run stops
   double initial_dt_fraction = 0.1;      // first step = this fraction of the CFL step
+  // A mixed cell's stiffness in the faces' impedance and the time step (docs/solver.md, "The
+  // mixture's stiffness"). Frozen (default): sum alpha_k K_k, the Voigt sum, which in a gas carrying
+  // a dust of sand is the sand's. Reuss: what the closure's volume sharing answers with, 1 / sum
+  // (alpha_k / K_k), plus the dilution stiffness of a cell out of pressure equilibrium, with a
+  // shock impedance floor rho |du| / alpha_soft and a step that sees the soft fraction closing.
+  bool mixture_reuss = false;
   double body_friction = 0.0;            // - Coulomb coefficient between the sand and the body (gas slides freely)
   double load_reference_pressure = 0.0;  // Pa: the body's load by material is booked against it (ambient)
   // Every pencil carries every material, not only those present in it (Pencil::mat): the same
@@ -254,6 +260,8 @@ class Solver {
   // The cell that sets the time step, in words (indices, position, its materials' states): for
   // the message when the step collapses.
   std::string describeLimitingCell() const;
+  double cellStepTime(int i, int j, int k) const;   // the least over the axes of width / signal speed, s
+  void prepareStepNeighbours();                      // the ghosts the step reads (mixture_reuss)
   void step(double dt);                  // one full step (all sweeps); throws RunError on blow-up
   // Continues from a state mapped in from another run (hydro/rezone.hpp): the clock starts at t and
   // the energy books carry what that run booked, so they close over both.

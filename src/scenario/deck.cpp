@@ -86,6 +86,10 @@ std::vector<Key> makeKeys() {
       number("", "fragment_fold", top<&Deck::fragment_fold>, "-", {0.0, 1e-8},
              "a material under this fraction of a cell's volume is folded into the cell's other materials (mass, momentum and energy kept; "
              "summary.json books each material's folded mass); 0: never (docs/solver.md, Fragments)"),
+      text("", "mixture_stiffness", top<&Deck::mixture_stiffness>, {"frozen", "reuss"},
+           "a mixed cell's stiffness in the faces' impedance and the time step: the frozen (Voigt) sum, or the Reuss modulus the closure "
+           "answers with plus its dilution stiffness, a shock impedance floor and the soft fraction's closing in the step (experimental; "
+           "docs/solver.md, The mixture's stiffness)"),
       flag("", "outflow_readmits_products", top<&Deck::outflow_readmits_products>,
            "where the flow turns inward at an outflow side, let the products that left come back (a zero-gradient copy, as before solver revision 9); "
            "default: what enters there is the ambient air (docs/solver.md, Boundaries)"),

@@ -102,6 +102,7 @@ struct Deck {
   double cfl = 0.45;
   double fragment_fold = 1e-10;
   bool outflow_readmits_products = false;
+  std::string mixture_stiffness = "frozen";
   EarlySpec early;
   OutputSpec output;
   nlohmann::json echo;   // the resolved deck: every key's value after the file, --set and the defaults
