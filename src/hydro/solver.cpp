@@ -388,8 +388,9 @@ Totals Solver::totals() const { return totalsOf(columnTotals()); }
 // material's deviator follows the cell's strain). `soft` (else 0) is then the fraction of the cell's
 // volume that a compression closes: sum alpha_k w_k, w_k = (alpha_k / K_k) K_R.
 struct CellSignal {
-  double c2 = 0.0;     // m2/s2
-  double soft = 0.0;   // -: 0 in a cell of one material or without mixture_reuss
+  double c2 = 0.0;          // m2/s2
+  double soft = 0.0;        // -: 0 in a cell of one material or without mixture_reuss
+  double frozen_c2 = 0.0;   // m2/s2: the frozen sum's, with mixture_reuss (a bound on the closing's speed)
 };
 static CellSignal cellSignal(const std::vector<materials::Material>& mats, const std::vector<MaterialFields>& fields, std::size_t c, bool reuss) {
   double kv = 0.0, rho_mix = 0.0, compliance = 0.0, soft_sum = 0.0, shear = 0.0, p_sum = 0.0, p_per_k = 0.0;
@@ -414,16 +415,18 @@ static CellSignal cellSignal(const std::vector<materials::Material>& mats, const
     }
     kv += f.alpha[c] * kk;
   }
-  if (!reuss || present < 2 || !(compliance > 0.0)) return {kv / rho_mix, 0.0};
+  if (!reuss || present < 2 || !(compliance > 0.0)) return {kv / rho_mix, 0.0, kv / rho_mix};
   const double k_r = 1.0 / compliance;
-  return {(k_r + std::max(p_sum - k_r * p_per_k, 0.0) + shear) / rho_mix, soft_sum * k_r};
+  return {(k_r + std::max(p_sum - k_r * p_per_k, 0.0) + shear) / rho_mix, soft_sum * k_r, kv / rho_mix};
 }
 
 // The time one cell allows along each axis. With a soft fraction (mixture_reuss) a compression
 // closes it as a snow-plough shock, whose speed over the gas-laden cell is |du| / alpha_soft: the
 // closing speed across the cell (its neighbours' velocities, a body's own where the neighbour is
 // the body) adds that to the cell's signal speed, so that a step closes at most a Courant number's
-// share of the soft volume. The neighbours are read after prepareStepNeighbours.
+// share of the soft volume; but never past the frozen mixture's speed, at which the stiff
+// material's own wave outruns the closing (a sand cell holding a few percent of gas would otherwise
+// take du / 0.05). The neighbours are read after prepareStepNeighbours.
 double Solver::cellStepTime(int i, int j, int k) const {
   const std::size_t c = grid_.index(i, j, k);
   double least = std::numeric_limits<double>::infinity();
@@ -438,7 +441,7 @@ double Solver::cellStepTime(int i, int j, int k) const {
       const std::size_t st = grid_.stride(d);
       const double body_u = body_velocity_[static_cast<std::size_t>(d)];
       const double lo = isBody(c - st) ? body_u : ud[c - st], hi = isBody(c + st) ? body_u : ud[c + st];
-      speed += std::max(lo - hi, 0.0) / sig.soft;
+      speed = std::abs(ud[c]) + std::min(cs + std::max(lo - hi, 0.0) / sig.soft, std::sqrt(sig.frozen_c2)) + 1e-30;
     }
     const double t = grid_.width(d, idx[d]) / speed;
     least = t < least ? t : least;
