@@ -1080,8 +1080,9 @@ void Solver::gatherPencil(Pencil& P, int d, const PencilSource& src, int a, int 
     const std::size_t k0 = P.at(k, 0);
     materials::evaluateEosAndHistory(mat, N, P.a.data() + k0, P.r.data() + k0, P.e.data() + k0, P.h.data() + k0, P.pk.data() + k0,
                                      P.kk.data() + k0);
-    (reuss ? addToMixture<true> : addToMixture<false>)(N, materials::tensionLimit(mat), P.a.data() + k0, P.r.data() + k0, P.pk.data() + k0, P.kk.data() + k0, P.rho.data(),
-                 P.P.data(), P.K.data(), P.Kp.data(), P.soft.data(), P.p_per_k.data(), P.present.data(), P.pmin.data());
+    const auto add = reuss ? addToMixture<true> : addToMixture<false>;
+    add(N, materials::tensionLimit(mat), P.a.data() + k0, P.r.data() + k0, P.pk.data() + k0, P.kk.data() + k0, P.rho.data(), P.P.data(),
+        P.K.data(), P.Kp.data(), P.soft.data(), P.p_per_k.data(), P.present.data(), P.pmin.data());
     if (strength)
       addStressToMixture(N, P.a.data() + k0, P.s[static_cast<std::size_t>(d)].data() + k0, P.s[2].data() + k0, P.s[1].data() + k0,
                          P.s[static_cast<std::size_t>(s_dt1)].data() + k0, P.s[static_cast<std::size_t>(s_dt2)].data() + k0,
