@@ -40,7 +40,7 @@ void Pencil::resize(int cells, int materials) {
   }
   const auto sN = static_cast<std::size_t>(N), sF = sN + 1, sMN = sN * static_cast<std::size_t>(M),
              sMF = sF * static_cast<std::size_t>(M);
-  for (auto* v : {&vol, &rho, &P, &K, &Kp, &Z, &zs, &soft, &p_per_k, &hoop, &dil, &pmin, &vlag, &mass, &ke, &su, &sp, &ie_cell, &die, &w_grav, &present, &sum_snn, &sum_s11}) v->assign(sN, 0.0);
+  for (auto* v : {&vol, &rho, &P, &K, &Kp, &Z, &zs, &zmax, &soft, &p_per_k, &hoop, &dil, &pmin, &vlag, &mass, &ke, &su, &sp, &ie_cell, &die, &w_grav, &present, &sum_snn, &sum_s11}) v->assign(sN, 0.0);
   for (auto* v : {&area, &ustar, &pstar, &dvol}) v->assign(sF, 0.0);
   for (auto& v : u) v.assign(sN, 0.0);
   for (auto& v : mom) v.assign(sN, 0.0);
@@ -313,18 +313,20 @@ inline FaceStates hancockStates(std::ptrdiff_t L, std::ptrdiff_t R, double dt, c
 
 // The same with a mixed cell's shock impedance (mixture_reuss): a side that is compressed by
 // du = its velocity's change to the face's answers with Z + zs du (zs = rho / alpha_soft, the
-// snow-plough shock of its soft fraction; 0 in a cell of one material). Each side's du is its own
-// share of the jump, from the acoustic solution, then the problem is solved again with it.
+// snow-plough shock of its soft fraction; 0 in a cell of one material), at most the frozen sum's
+// impedance (zmax; the step is capped alike). Each side's du is its own share of the jump, from the
+// acoustic solution, then the problem is solved again with it.
 [[gnu::noinline]] static void shockFaces(std::ptrdiff_t f0, std::ptrdiff_t f1, double dt, const double* __restrict width, const double* __restrict un,
                                          const double* __restrict su, const double* __restrict sp, const double* __restrict rho, const double* __restrict p,
                                          const double* __restrict Kp, const double* __restrict dil, const double* __restrict Z, const double* __restrict ZS,
-                                         double* __restrict ustar, double* __restrict pstar) {
+                                         const double* __restrict ZMAX, double* __restrict ustar, double* __restrict pstar) {
   for (std::ptrdiff_t f = f0; f <= f1; ++f) {
     const auto [uL, pL, uR, pR] = hancockStates(f - 1, f, dt, width, un, su, sp, rho, p, Kp, dil);
     const double zl0 = Z[f - 1], zr0 = Z[f];
     const double u0 = (zl0 * uL + zr0 * uR + pL - pR) / (zl0 + zr0);
     const double du_l = uL - u0 > 0.0 ? uL - u0 : 0.0, du_r = u0 - uR > 0.0 ? u0 - uR : 0.0;
-    const double zl = zl0 + ZS[f - 1] * du_l, zr = zr0 + ZS[f] * du_r;
+    const double zl_s = zl0 + ZS[f - 1] * du_l, zr_s = zr0 + ZS[f] * du_r;
+    const double zl = zl_s < ZMAX[f - 1] ? zl_s : ZMAX[f - 1], zr = zr_s < ZMAX[f] ? zr_s : ZMAX[f];
     const double zs = zl + zr;
     ustar[f] = (zl * uL + zr * uR + pL - pR) / zs;
     pstar[f] = (zr * pL + zl * pR + zl * zr * (uL - uR)) / zs;
@@ -342,7 +344,7 @@ void solveFaces(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     const double* un = P.u[static_cast<std::size_t>(S.d)].data();
     if (S.mixture_reuss)
       shockFaces(f0, f1, dt, S.width, un, P.su.data(), P.sp.data(), P.rho.data(), P.P.data(), P.Kp.data(), dilatation, P.Z.data(), P.zs.data(),
-                 P.ustar.data(), P.pstar.data());
+                 P.zmax.data(), P.ustar.data(), P.pstar.data());
     else
       acousticFaces(f0, f1, dt, S.width, un, P.su.data(), P.sp.data(), P.rho.data(), P.P.data(), P.Kp.data(), dilatation, P.Z.data(),
                     P.ustar.data(), P.pstar.data());
@@ -381,8 +383,8 @@ void solveFaces(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
     const auto [uL, pL, uR, pR] = hancockStates(f - 1, f, dt, S.width, un.data(), P.su.data(), P.sp.data(), P.rho.data(), P.P.data(), P.Kp.data(),
                                                 dilatation);
     // the flow side takes the whole jump to the wall's velocity (mixture_reuss: its shock impedance)
-    const double zl = S.mixture_reuss ? P.Z[L] + P.zs[L] * std::max(uL - wall_u, 0.0) : P.Z[L];
-    const double zr = S.mixture_reuss ? P.Z[R] + P.zs[R] * std::max(wall_u - uR, 0.0) : P.Z[R];
+    const double zl = S.mixture_reuss ? std::min(P.Z[L] + P.zs[L] * std::max(uL - wall_u, 0.0), P.zmax[L]) : P.Z[L];
+    const double zr = S.mixture_reuss ? std::min(P.Z[R] + P.zs[R] * std::max(wall_u - uR, 0.0), P.zmax[R]) : P.Z[R];
     double ps = 0.0;
     if (!P.solid[L]) ps = std::max(pL + zl * (uL - wall_u), P.pmin[L]);
     else if (!P.solid[R]) ps = std::max(pR + zr * (wall_u - uR), P.pmin[R]);

@@ -54,6 +54,7 @@ struct Pencil {
   // being Z + zs du; rho_mix over the fraction of its volume that takes a compression (`soft`, the
   // gather's sum alpha^2 / K until it is used); 0 in a cell of one material.
   std::vector<double> zs, soft;
+  std::vector<double> zmax;      // mixture_reuss only: the ceiling of Z + zs du, the frozen sum's impedance (at least Z)
   std::vector<double> p_per_k;   // mixture_reuss only: the gather's sum alpha_k p_k / K_k over the materials above kAlphaMin
   std::vector<double> pmin;                   // the cell's tension limit (volume weighted): a wall's floor
   std::array<std::vector<double>, 2> shear;   // mixture s_{d,t} for the two transverse axes

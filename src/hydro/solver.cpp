@@ -422,11 +422,12 @@ static CellSignal cellSignal(const std::vector<materials::Material>& mats, const
 
 // The time one cell allows along each axis. With a soft fraction (mixture_reuss) a compression
 // closes it as a snow-plough shock, whose speed over the gas-laden cell is |du| / alpha_soft: the
-// closing speed across the cell (its neighbours' velocities, a body's own where the neighbour is
-// the body) adds that to the cell's signal speed, so that a step closes at most a Courant number's
-// share of the soft volume; but never past the frozen mixture's speed, at which the stiff
-// material's own wave outruns the closing (a sand cell holding a few percent of gas would otherwise
-// take du / 0.05). The neighbours are read after prepareStepNeighbours.
+// closing speed of the cell's two faces (each the mean of the cell's and its neighbour's velocity,
+// the body's own where the neighbour is body) adds that to the cell's signal speed, so that a step
+// closes at most a Courant number's share of the soft volume; but never past the frozen mixture's
+// speed, at which the stiff material's own wave outruns the closing (a sand cell holding a few
+// percent of gas would otherwise take du / 0.05). The neighbours are read after
+// prepareStepNeighbours.
 double Solver::cellStepTime(int i, int j, int k) const {
   const std::size_t c = grid_.index(i, j, k);
   double least = std::numeric_limits<double>::infinity();
@@ -440,8 +441,8 @@ double Solver::cellStepTime(int i, int j, int k) const {
     if (sig.soft > 0.0) {
       const std::size_t st = grid_.stride(d);
       const double body_u = body_velocity_[static_cast<std::size_t>(d)];
-      const double lo = isBody(c - st) ? body_u : ud[c - st], hi = isBody(c + st) ? body_u : ud[c + st];
-      speed = std::abs(ud[c]) + std::min(cs + std::max(lo - hi, 0.0) / sig.soft, std::sqrt(sig.frozen_c2)) + 1e-30;
+      const double lo = isBody(c - st) ? body_u : 0.5 * (ud[c - st] + ud[c]), hi = isBody(c + st) ? body_u : 0.5 * (ud[c] + ud[c + st]);
+      speed = std::abs(ud[c]) + std::max(cs, std::min(cs + std::max(lo - hi, 0.0) / sig.soft, std::sqrt(sig.frozen_c2))) + 1e-30;
     }
     const double t = grid_.width(d, idx[d]) / speed;
     least = t < least ? t : least;
@@ -457,7 +458,8 @@ double Solver::stableTimeStep() const {
 }
 
 // The step's neighbour velocities (cellStepTime, mixture_reuss only): the neighbouring slabs' and the
-// boundaries' ghosts as they are now, so that a slab's step is the whole's.
+// boundaries' ghosts as they are now, so that a slab's step is the whole's. nextTimeStep calls it;
+// a caller of stableTimeStep alone with the option on must call it first.
 void Solver::prepareStepNeighbours() {
   if (!opt_.mixture_reuss) return;
   if (exchange_) exchangeHalo(false);
@@ -1109,6 +1111,9 @@ void Solver::gatherPencil(Pencil& P, int d, const PencilSource& src, int a, int 
     const double dilution = mixed ? std::max(p - P.Kp[si] * P.p_per_k[si], 0.0) : 0.0;
     P.Z[si] = std::sqrt(std::max(P.rho[si] * (P.Kp[si] + dilution), 1e-30));
     P.zs[si] = mixed ? P.rho[si] / std::max(P.soft[si] * P.Kp[si], 1e-3) : 0.0;   // P.soft holds sum alpha^2 / K
+    // the shock impedance's ceiling: the frozen sum's, as the step's speed is capped (cellStepTime),
+    // so that no face answers faster than the step allows (rho dx / Z >= dt)
+    P.zmax[si] = std::max(std::sqrt(std::max(P.rho[si] * P.K[si], 1e-30)), P.Z[si]);
   }
 }
 
