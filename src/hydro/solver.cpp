@@ -437,14 +437,14 @@ double Solver::cellStepTime(int i, int j, int k) const {
   const int idx[3] = {i, j, k};
   for (int d = 0; d < grid_.dims(); ++d) {
     const auto& ud = u_[static_cast<std::size_t>(d)];
-    double speed = std::abs(ud[c]) + cs + 1e-30;
+    double signal = cs;
     if (sig.soft > 0.0) {
       const std::size_t st = grid_.stride(d);
       const double body_u = body_velocity_[static_cast<std::size_t>(d)];
       const double lo = isBody(c - st) ? body_u : 0.5 * (ud[c - st] + ud[c]), hi = isBody(c + st) ? body_u : 0.5 * (ud[c] + ud[c + st]);
-      speed = std::abs(ud[c]) + std::max(cs, std::min(cs + std::max(lo - hi, 0.0) / sig.soft, std::sqrt(sig.frozen_c2))) + 1e-30;
+      signal = std::max(cs, std::min(cs + std::max(lo - hi, 0.0) / sig.soft, std::sqrt(sig.frozen_c2)));
     }
-    const double t = grid_.width(d, idx[d]) / speed;
+    const double t = grid_.width(d, idx[d]) / (std::abs(ud[c]) + signal + 1e-30);
     least = t < least ? t : least;
   }
   return least;
@@ -1047,7 +1047,8 @@ void Solver::gatherPencil(Pencil& P, int d, const PencilSource& src, int a, int 
     const std::size_t si = static_cast<std::size_t>(i);
     for (std::size_t q = 0; q < 3; ++q) P.u[q][si] = src.u[q][c];
     P.solid[si] = src.solid ? src.solid[c] : 0;
-    P.rho[si] = P.P[si] = P.K[si] = P.Kp[si] = P.soft[si] = P.p_per_k[si] = P.present[si] = P.pmin[si] = P.hoop[si] = P.shear[0][si] = P.shear[1][si] = P.sum_snn[si] = P.sum_s11[si] = 0.0;
+    P.rho[si] = P.P[si] = P.K[si] = P.Kp[si] = P.present[si] = P.pmin[si] = P.hoop[si] = P.shear[0][si] = P.shear[1][si] = P.sum_snn[si] = P.sum_s11[si] = 0.0;
+    if (reuss) P.soft[si] = P.p_per_k[si] = 0.0;   // the Reuss sums (addToMixture<true>)
   }
   for (int k = 0; k < M; ++k) {
     const auto km = static_cast<std::size_t>(P.mat[k]);
@@ -1098,12 +1099,11 @@ void Solver::gatherPencil(Pencil& P, int d, const PencilSource& src, int a, int 
     // Until here P.Kp holds the sum of compliances. A cell of one material (fragments aside) keeps
     // K, the same to the bit whichever materials its pencil carries.
     const bool mixed = P.present[si] > 1.0 && P.Kp[si] > 0.0;
+    P.Kp[si] = mixed ? 1.0 / P.Kp[si] : P.K[si];
     if (!reuss) {
       P.Z[si] = std::sqrt(std::max(P.rho[si] * P.K[si], 1e-30));
-      P.Kp[si] = mixed ? 1.0 / P.Kp[si] : P.K[si];
       continue;
     }
-    P.Kp[si] = mixed ? 1.0 / P.Kp[si] : P.K[si];
     // mixture_reuss: the faces' impedance from the stiffness the closure answers with (cellSignal):
     // K_R plus the dilution stiffness sum alpha_k p_k - K_R sum alpha_k p_k / K_k of a cell out of
     // pressure equilibrium; compressed hard, the soft fraction closes and the impedance rises by
