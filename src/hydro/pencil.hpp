@@ -59,6 +59,8 @@ struct Pencil {
   std::vector<double> pmin;                   // the cell's tension limit (volume weighted): a wall's floor
   std::array<std::vector<double>, 2> shear;   // mixture s_{d,t} for the two transverse axes
   std::vector<double> a, r, e, h, pk, kk, wl;   // per material: alpha, rho, e, history, p, rho c^2, WLIC weight
+  // per material: THINC's profile at a cell's low and high faces (the cell's fraction where it has none), for BVD
+  std::vector<double> tlo, thi;
   std::array<std::vector<double>, 6> s;
   // faces
   std::vector<double> ustar, pstar, dvol;
@@ -93,6 +95,7 @@ struct SweepSetup {
   double dt = 0.0;             // s
   bool second_order = true;
   double thinc_beta = 3.5;
+  bool thinc_bvd = false;      // SolverOptions::thinc_bvd
   double gravity = 0.0;        // m/s2 along d
   std::array<double, 3> wall_velocity{};   // m/s, the body's
   double friction = 0.0;       // - Coulomb coefficient at the body's faces
@@ -245,5 +248,7 @@ struct ThincFace {
   double e = 0.0;
 };
 double thincOutflow(double a, double a_lo, double a_hi, ThincFace& face);
+void thincFaceValues(Pencil& P, int i0, int i1, const ThincProfile& th);
+bool thincLeavesSmallerJumps(const Pencil& P, std::size_t c);
 
 }  // namespace ejecta::hydro

@@ -1334,6 +1334,7 @@ void Solver::sweep(int d, double dt) {
   S.second_order = opt_.second_order;
   S.thinc_beta = opt_.thinc_beta;
   S.mixture_reuss = opt_.mixture_reuss;
+  S.thinc_bvd = opt_.thinc_bvd;
   S.gravity = opt_.gravity[static_cast<std::size_t>(d)];
   S.wall_velocity = body_velocity_;
   S.friction = body_.empty() ? 0.0 : opt_.body_friction;

@@ -133,6 +133,7 @@ Case buildCase(const Deck& deck, const FineBlock* block, const RankPart* part, b
   o.cfl = deck.cfl;
   o.fragment_fold = deck.fragment_fold;
   o.mixture_reuss = deck.mixture_stiffness == "reuss";
+  o.thinc_bvd = deck.interface_remap == "thinc-bvd";
   if (!deck.outflow_readmits_products) {   // material 1: the products
     o.inflow_barred = {1};
     o.inflow_fill = 0;

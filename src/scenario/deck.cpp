@@ -90,6 +90,10 @@ std::vector<Key> makeKeys() {
            "a mixed cell's stiffness in the faces' impedance and the time step: the frozen (Voigt) sum, or the Reuss modulus the closure "
            "answers with plus its dilution stiffness, a shock impedance floor and the soft fraction's closing in the step (experimental; "
            "docs/solver.md, The mixture's stiffness)"),
+      text("", "interface_remap", top<&Deck::interface_remap>, {"thinc", "thinc-bvd"},
+           "how the remap moves a mixed cell's materials: THINC's sharp profile wherever the neighbours bracket the cell (it stripes a "
+           "dust of sand in gas), or only where the profile leaves smaller jumps at the donor's faces than the donor mean (BVD: interfaces "
+           "stay sharp, a dust stays a dust; experimental; docs/solver.md, Interfaces and dust)"),
       flag("", "outflow_readmits_products", top<&Deck::outflow_readmits_products>,
            "where the flow turns inward at an outflow side, let the products that left come back (a zero-gradient copy, as before solver revision 9); "
            "default: what enters there is the ambient air (docs/solver.md, Boundaries)"),

@@ -103,6 +103,7 @@ struct Deck {
   double fragment_fold = 1e-10;
   bool outflow_readmits_products = false;
   std::string mixture_stiffness = "frozen";
+  std::string interface_remap = "thinc";
   EarlySpec early;
   OutputSpec output;
   nlohmann::json echo;   // the resolved deck: every key's value after the file, --set and the defaults

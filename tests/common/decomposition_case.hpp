@@ -27,8 +27,9 @@ inline mesh::Grid wholeGrid(int dims = 2) {
   return mesh::Grid(2, mesh::Geometry::Axisymmetric, {Axis::uniform(0.0, 0.36, 36), Axis::uniform(-0.3, 0.3, 40), Axis{}});
 }
 
-// reuss: SolverOptions::mixture_reuss (the step then reads its neighbours' velocities).
-inline hydro::Solver makeBlock(const mesh::Grid& grid, bool reuss = false) {
+// reuss: SolverOptions::mixture_reuss (the step then reads its neighbours' velocities); bvd:
+// SolverOptions::thinc_bvd (the remap then reads two cells past each donor).
+inline hydro::Solver makeBlock(const mesh::Grid& grid, bool reuss = false, bool bvd = false) {
   const int up = grid.dims() == 3 ? 2 : 1;
   hydro::SolverOptions o;
   o.boundary[0] = {BoundaryKind::Reflect, BoundaryKind::Transmit};
@@ -38,6 +39,7 @@ inline hydro::Solver makeBlock(const mesh::Grid& grid, bool reuss = false) {
   o.gravity[static_cast<std::size_t>(up)] = -9.81;
   o.body_friction = 0.2;
   o.mixture_reuss = reuss;
+  o.thinc_bvd = bvd;
   o.load_reference_pressure = 101325.0;
   o.inflow_barred = {1};   // as a run's: the outflow sides let no products back in
   o.inflow_fill = 0;

@@ -44,6 +44,7 @@ DEFAULT_FILE = os.path.join(HERE, "totals.json")
 CASES = {
     "mesh-study-10mm-early": [["mesh-study", "--cell-size", "10", "--set", "end_time_s=0.0003", "--set", "early.cells_per_charge_height=10"]],
     "emi-flat-22-40mm": [["emi-flat-22", "--cell-size", "40", "--set", "end_time_s=0.001"]],
+    "emi-flat-22-40mm-bvd": [["emi-flat-22", "--cell-size", "40", "--set", "end_time_s=0.001", "--set", "interface_remap=\"thinc-bvd\""]],
     "emi-v120-7-3d-60mm": [["emi-v120-7", "--cell-size", "60", "--set", "end_time_s=0.0005"]],
     "emi-v120-7-3d-60mm-reuss": [["emi-v120-7", "--cell-size", "60", "--set", "end_time_s=0.0005", "--set", "mixture_stiffness=\"reuss\""]],
     "field-cover7-2.5cm-restart": [
@@ -55,6 +56,7 @@ CASES = {
 WHAT = {
     "mesh-study-10mm-early": "fixed plate, no gravity, the early-time block (10 cells per charge height) mapped (2D axisymmetric)",
     "emi-flat-22-40mm": "free 300 kg plate, gravity, friction 0.2, wet sand (2D axisymmetric)",
+    "emi-flat-22-40mm-bvd": "the same with THINC only where BVD picks it (interface_remap = \"thinc-bvd\")",
     "emi-v120-7-3d-60mm": "120 degree V plate, 3D quarter, free plate, gravity, friction",
     "emi-v120-7-3d-60mm-reuss": "the same with the Reuss mixture stiffness (mixture_stiffness = \"reuss\")",
     "field-cover7-2.5cm-restart": "backfilled cover (5 materials), checkpoint at 0.25 ms, restarted to 1 ms",

@@ -76,18 +76,18 @@ void onEachBlock(int parts, const std::function<void(int, parallel::Exchange&)>&
     if (f) std::rethrow_exception(f);
 }
 
-void splitMatchesWhole(int dims, int parts, int steps, bool reuss = false) {
+void splitMatchesWhole(int dims, int parts, int steps, bool reuss = false, bool bvd = false) {
 #ifdef _OPENMP
   omp_set_num_threads(1);
 #endif
-  auto whole = makeBlock(wholeGrid(dims), reuss);
+  auto whole = makeBlock(wholeGrid(dims), reuss, bvd);
   const auto ref = advance(whole, steps);
   const auto slabs = parallel::slabs(wholeGrid(dims).cells(0), parts);
   std::vector<std::unique_ptr<hydro::Solver>> blocks(static_cast<std::size_t>(parts));
   std::vector<Run> runs(static_cast<std::size_t>(parts));
   onEachBlock(parts, [&](int r, parallel::Exchange& ex) {
     const auto ur = static_cast<std::size_t>(r);
-    blocks[ur] = std::make_unique<hydro::Solver>(makeBlock(wholeGrid(dims).slab(slabs[ur].begin, slabs[ur].end), reuss));
+    blocks[ur] = std::make_unique<hydro::Solver>(makeBlock(wholeGrid(dims).slab(slabs[ur].begin, slabs[ur].end), reuss, bvd));
     blocks[ur]->setExchange(&ex);
     runs[ur] = advance(*blocks[ur], steps);
   });
@@ -251,6 +251,8 @@ TEST(Decomposition, ThreeSlabsOfA3DVPlateStepBitForBitAsTheWhole) { splitMatches
 // The Reuss mixture's step reads each cell's neighbours' velocities: the slabs' ghosts, exchanged first
 TEST(Decomposition, FiveUnevenSlabsWithTheReussMixtureStepBitForBitAsTheWhole) { splitMatchesWhole(2, 5, 150, true); }
 TEST(Decomposition, ThreeSlabsOfA3DVPlateWithTheReussMixtureStepBitForBitAsTheWhole) { splitMatchesWhole(3, 3, 60, true); }
+TEST(Decomposition, FiveUnevenSlabsWithThincBvdStepBitForBitAsTheWhole) { splitMatchesWhole(2, 5, 150, false, true); }
+TEST(Decomposition, ThreeSlabsOfA3DVPlateWithThincBvdStepBitForBitAsTheWhole) { splitMatchesWhole(3, 3, 60, false, true); }
 
 }  // namespace
 

@@ -508,6 +508,39 @@ TEST(Kernels, ThincOutflowMatchesItsProfileAndStaysWithinTheDonor) {
   EXPECT_DOUBLE_EQ(hydro::thincOutflow(0.4, 0.5, 0.5, 0.25, true, beta), 0.1);
 }
 
+// BVD's face values are THINC's profile at the cell's faces: the flux of a thin sliver through a
+// face, over its width, tends to them. The choice: at an interface (0 | 0.5 | 1) THINC's step leaves
+// the smaller jumps, in a dust (0.049 | 0.05 | 0.051) the donor mean does.
+TEST(Kernels, ThincFaceValuesAreTheProfilesAndBvdPicksTheStepOnlyAtAnInterface) {
+  const double beta = 3.5, sliver = 1e-7;
+  const hydro::ThincProfile th(beta);
+  for (const double a : {0.02, 0.3, 0.5, 0.8, 0.97})
+    for (const bool increasing : {true, false}) {
+      Line L(3, 1, 1e-3);
+      const int c = mesh::kGhost + 1;
+      L.P.a[static_cast<std::size_t>(c - 1)] = increasing ? 0.0 : 1.0;
+      L.P.a[static_cast<std::size_t>(c)] = a;
+      L.P.a[static_cast<std::size_t>(c + 1)] = increasing ? 1.0 : 0.0;
+      hydro::thincFaceValues(L.P, c, c, th);
+      const double lo = L.P.a[static_cast<std::size_t>(c - 1)], hi = L.P.a[static_cast<std::size_t>(c + 1)];
+      EXPECT_NEAR(L.P.thi[static_cast<std::size_t>(c)], hydro::thincOutflow(a, lo, hi, sliver, true, beta) / sliver, 1e-6) << a << increasing;
+      EXPECT_NEAR(L.P.tlo[static_cast<std::size_t>(c)], hydro::thincOutflow(a, lo, hi, sliver, false, beta) / sliver, 1e-6) << a << increasing;
+    }
+  auto choice = [&](double a0, double a1, double a2) {
+    Line L(5, 1, 1e-3);
+    const int c = mesh::kGhost + 2;
+    const double v[5] = {a0 - (a1 - a0), a0, a1, a2, a2 + (a2 - a1)};
+    for (int i = 0; i < 5; ++i) L.P.a[static_cast<std::size_t>(c - 2 + i)] = std::clamp(v[i], 0.0, 1.0);
+    hydro::thincFaceValues(L.P, c - 1, c + 1, th);
+    return hydro::thincLeavesSmallerJumps(L.P, static_cast<std::size_t>(c));
+  };
+  EXPECT_TRUE(choice(0.0, 0.5, 1.0));
+  EXPECT_TRUE(choice(1.0, 0.6, 0.0));
+  EXPECT_TRUE(choice(0.02, 0.5, 0.98));      // an interface spread over three cells
+  EXPECT_FALSE(choice(0.049, 0.05, 0.051));  // a dust
+  EXPECT_FALSE(choice(0.45, 0.5, 0.55));     // a smooth ramp of a half
+}
+
 TEST(Kernels, RemapOfAUniformFlowCarriesMassEnergyAndMomentumConsistently) {
   Line L(6, 1, 1e-3);
   for (int i = 0; i < L.P.N; ++i) L.set(i, 2.0, 50.0, 1e5, 1.4e5);
