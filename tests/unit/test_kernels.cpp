@@ -537,6 +537,8 @@ TEST(Kernels, ThincFaceValuesAreTheProfilesAndBvdPicksTheStepOnlyAtAnInterface) 
   EXPECT_TRUE(choice(0.0, 0.5, 1.0));
   EXPECT_TRUE(choice(1.0, 0.6, 0.0));
   EXPECT_TRUE(choice(0.02, 0.5, 0.98));      // an interface spread over three cells
+  EXPECT_TRUE(choice(0.0, 1.0 / 3.0, 2.0 / 3.0));   // over two (the step's jumps are larger than the mean's here)
+  EXPECT_TRUE(choice(1.0, 0.55, 0.05));      // sand against products carrying a dust
   EXPECT_FALSE(choice(0.049, 0.05, 0.051));  // a dust
   EXPECT_FALSE(choice(0.45, 0.5, 0.55));     // a smooth ramp of a half
 }
