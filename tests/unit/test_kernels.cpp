@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <tuple>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -526,6 +527,18 @@ TEST(Kernels, ThincFaceValuesAreTheProfilesAndBvdPicksTheStepOnlyAtAnInterface) 
       EXPECT_NEAR(L.P.thi[static_cast<std::size_t>(c)], hydro::thincOutflow(a, lo, hi, sliver, true, beta) / sliver, 1e-6) << a << increasing;
       EXPECT_NEAR(L.P.tlo[static_cast<std::size_t>(c)], hydro::thincOutflow(a, lo, hi, sliver, false, beta) / sliver, 1e-6) << a << increasing;
     }
+  // no profile (the fraction within 1e-6 of 0 or 1, or neighbours that do not bracket it): the
+  // cell's fraction at both faces
+  for (const auto& [lo, a, hi] : {std::tuple{0.0, 5e-7, 1.0}, std::tuple{0.0, 1.0 - 5e-7, 1.0}, std::tuple{0.2, 0.4, 0.3}, std::tuple{0.6, 0.4, 0.6}}) {
+    Line L(3, 1, 1e-3);
+    const int c = mesh::kGhost + 1;
+    L.P.a[static_cast<std::size_t>(c - 1)] = lo;
+    L.P.a[static_cast<std::size_t>(c)] = a;
+    L.P.a[static_cast<std::size_t>(c + 1)] = hi;
+    hydro::thincFaceValues(L.P, c, c, th);
+    EXPECT_EQ(L.P.tlo[static_cast<std::size_t>(c)], a) << lo << " " << a << " " << hi;
+    EXPECT_EQ(L.P.thi[static_cast<std::size_t>(c)], a) << lo << " " << a << " " << hi;
+  }
   auto choice = [&](double a0, double a1, double a2) {
     Line L(5, 1, 1e-3);
     const int c = mesh::kGhost + 2;
