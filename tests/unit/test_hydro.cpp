@@ -202,6 +202,9 @@ TEST(Solver, ThincBvdKeepsAnInterfaceAsSharpAsThincAlone) {
   EXPECT_LE(mixed, mixed_t) << spread;
   EXPECT_LE(l1, 1.05 * l1_t) << spread;
   EXPECT_LT(l1, 0.02) << spread;
+  if (spread) {
+    EXPECT_LT(l1, 0.5 * 4.0 / 3.0 / 100.0);   // sharpened again: under half the spread start's L1 (4/3 of a cell)
+  }
   }
 }
 
