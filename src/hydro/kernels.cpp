@@ -852,7 +852,7 @@ void thincFaceValues(Pencil& P, int i0, int i1, const ThincProfile& th) {
 // jumps it leaves at the donor's two faces, against its neighbours' profiles, are smaller than those
 // of the donor mean against theirs. In a dust of sand in gas (0.049 | 0.05 | 0.051) the step would
 // put the cell's whole fraction against one face, a jump the mean does not make: seeding stripes.
-bool thincLeavesSmallerJumps(const Pencil& P, std::size_t c) {
+bool bvdTakesTheProfile(const Pencil& P, std::size_t c) {
   constexpr double kNearPure = 0.1;
   double lo = P.a[c], hi = P.a[c];
   for (const std::size_t q : {c - 2, c - 1, c + 1, c + 2}) {
@@ -905,7 +905,7 @@ void remapFluxes(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
       }
       const double al = P.vk[kD] / vD;
       const double wl = P.wl[kD];
-      if (bvd && !thincLeavesSmallerJumps(P, kD)) raw[k] = al * bfrac;
+      if (bvd && !bvdTakesTheProfile(P, kD)) raw[k] = al * bfrac;
       else raw[k] = M == 1 ? bfrac : wl * thincOutflow(al, P.a[kD - 1], P.a[kD + 1], face) + (1.0 - wl) * al * bfrac;
       raw_sum += raw[k];
     }

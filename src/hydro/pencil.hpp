@@ -249,6 +249,6 @@ struct ThincFace {
 };
 double thincOutflow(double a, double a_lo, double a_hi, ThincFace& face);
 void thincFaceValues(Pencil& P, int i0, int i1, const ThincProfile& th);
-bool thincLeavesSmallerJumps(const Pencil& P, std::size_t c);
+bool bvdTakesTheProfile(const Pencil& P, std::size_t c);
 
 }  // namespace ejecta::hydro

@@ -545,7 +545,7 @@ TEST(Kernels, ThincFaceValuesAreTheProfilesAndBvdPicksTheStepOnlyAtAnInterface) 
     const double v[5] = {a0 - (a1 - a0), a0, a1, a2, a2 + (a2 - a1)};
     for (int i = 0; i < 5; ++i) L.P.a[static_cast<std::size_t>(c - 2 + i)] = std::clamp(v[i], 0.0, 1.0);
     hydro::thincFaceValues(L.P, c - 1, c + 1, th);
-    return hydro::thincLeavesSmallerJumps(L.P, static_cast<std::size_t>(c));
+    return hydro::bvdTakesTheProfile(L.P, static_cast<std::size_t>(c));
   };
   EXPECT_TRUE(choice(0.0, 0.5, 1.0));
   EXPECT_TRUE(choice(1.0, 0.6, 0.0));
