@@ -62,6 +62,17 @@ double thincOutflow(double a, double a_lo, double a_hi, double b, bool out_high,
   return thincOutflow(a, a_lo, a_hi, face);
 }
 
+// Whether the cell holds a THINC profile (its fraction strictly inside (1e-6, 1 - 1e-6) and
+// bracketed by its neighbours) and, if so, its direction gamma = +-1 and t = exp(2 beta xc), xc the
+// profile's centre, from the mean: exp(2 beta gamma (a - 1/2)) = (e^beta + e^-beta t) / (1 + t).
+static bool thincCentre(double a, double a_lo, double a_hi, const ThincProfile& th, double& gamma, double& t) {
+  if (a < 1e-6 || a > 1.0 - 1e-6 || (a_hi - a) * (a - a_lo) <= 0.0) return false;
+  gamma = a_hi > a_lo ? 1.0 : -1.0;
+  const double eq = std::exp(2.0 * th.beta * gamma * (a - 0.5));   // gamma = +-1, so 1/gamma = gamma
+  t = (th.exp_beta - eq) / (eq - th.exp_minus_beta);
+  return true;
+}
+
 double thincOutflow(double a, double a_lo, double a_hi, ThincFace& face) {
   const double b = face.b;
   const double hi_cap = std::min(a, b), lo_cap = std::max(0.0, a - (1.0 - b));
@@ -69,19 +80,16 @@ double thincOutflow(double a, double a_lo, double a_hi, ThincFace& face) {
   // above b, where std::clamp's precondition (lo <= hi) fails; this is what libstdc++'s clamp
   // computes, without the precondition.
   const auto capped = [&](double x) { return std::min(std::max(x, lo_cap), hi_cap); };
-  // No interface to sharpen where the neighbours do not bracket the cell: the donor mean.
-  if (a < 1e-6 || a > 1.0 - 1e-6 || (a_hi - a) * (a - a_lo) <= 0.0) return capped(a * b);
   const ThincProfile& th = face.th;   // the face's own copy
+  double gamma = 0.0, t = 0.0;
+  // No interface to sharpen where the neighbours do not bracket the cell: the donor mean.
+  if (!thincCentre(a, a_lo, a_hi, th, gamma, t)) return capped(a * b);
   const double beta = th.beta;
-  const double gamma = a_hi > a_lo ? 1.0 : -1.0;
-  const double q = 2.0 * beta * gamma * (a - 0.5);   // gamma = +-1, so 1/gamma = gamma
-  const double eq = std::exp(q);
-  // t = exp(2 beta xc), xc the profile's centre. The flux is the integral of the tanh profile,
-  // a difference of two ln cosh; that difference is the log of a ratio of cosh, which in t is a
-  // ratio of two sums of positive terms: one log here, and one exp per face shared by its
-  // materials, where the two ln cosh took four calls and the centre's log one more. (Both forms
-  // carry about 1e-16 of absolute error, which at swept fractions under 1e-8 is most of a tiny flux.)
-  const double t = (th.exp_beta - eq) / (eq - th.exp_minus_beta);
+  // The flux is the integral of the tanh profile, a difference of two ln cosh; that difference is
+  // the log of a ratio of cosh, which in t is a ratio of two sums of positive terms: one log here,
+  // and one exp per face shared by its materials, where the two ln cosh took four calls and the
+  // centre's log one more. (Both forms carry about 1e-16 of absolute error, which at swept
+  // fractions under 1e-8 is most of a tiny flux.)
   const double ef = face.exponential();
   const double ratio = face.out_high ? (th.exp_beta + t * th.exp_minus_beta) / (ef + t / ef) : (ef + t / ef) / (1.0 + t);
   return capped(0.5 * b + gamma / (2.0 * beta) * std::log(ratio));
@@ -821,8 +829,7 @@ void lagrangeUpdate(Pencil& P, const SweepSetup& S, PencilLedger& ledger) {
 // ------------------------------------------------------------------------------------------------
 
 // THINC's profile at each cell's two faces, cells i0 .. i1 of every material: where the cell has
-// a profile (its fraction strictly inside (1e-6, 1 - 1e-6) and bracketed by its neighbours, as in
-// thincOutflow), alpha(x) = (1 + gamma tanh(beta (x - xc))) / 2 at x = 0 and 1, which with
+// a profile (thincCentre), alpha(x) = (1 + gamma tanh(beta (x - xc))) / 2 at x = 0 and 1, which with
 // t = exp(2 beta xc) are 1 / (1 + t) and E / (E + t) (gamma = +1; E = exp(2 beta)), or t / (1 + t)
 // and t / (E + t) (gamma = -1); elsewhere the cell's fraction at both.
 void thincFaceValues(Pencil& P, int i0, int i1, const ThincProfile& th) {
@@ -830,14 +837,12 @@ void thincFaceValues(Pencil& P, int i0, int i1, const ThincProfile& th) {
   for (int k = 0; k < P.M; ++k)
     for (int i = i0; i <= i1; ++i) {
       const std::size_t c = P.at(k, i);
-      const double a = P.a[c], a_lo = P.a[c - 1], a_hi = P.a[c + 1];
-      if (a < 1e-6 || a > 1.0 - 1e-6 || (a_hi - a) * (a - a_lo) <= 0.0) {
+      const double a = P.a[c];
+      double gamma = 0.0, t = 0.0;
+      if (!thincCentre(a, P.a[c - 1], P.a[c + 1], th, gamma, t)) {
         P.tlo[c] = P.thi[c] = a;
         continue;
       }
-      const double gamma = a_hi > a_lo ? 1.0 : -1.0;
-      const double eq = std::exp(2.0 * th.beta * gamma * (a - 0.5));
-      const double t = (th.exp_beta - eq) / (eq - th.exp_minus_beta);
       P.tlo[c] = gamma > 0.0 ? 1.0 / (1.0 + t) : t / (1.0 + t);
       P.thi[c] = gamma > 0.0 ? E / (E + t) : t / (E + t);
     }

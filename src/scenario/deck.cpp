@@ -92,8 +92,9 @@ std::vector<Key> makeKeys() {
            "docs/solver.md, The mixture's stiffness)"),
       text("", "interface_remap", top<&Deck::interface_remap>, {"thinc", "thinc-bvd"},
            "how the remap moves a mixed cell's materials: THINC's sharp profile wherever the neighbours bracket the cell (it stripes a "
-           "dust of sand in gas), or only where the profile leaves smaller jumps at the donor's faces than the donor mean (BVD: interfaces "
-           "stay sharp, a dust stays a dust; experimental; docs/solver.md, Interfaces and dust)"),
+           "dust of sand in gas), or the profile on interfaces (near-pure fractions on both sides within two cells) and elsewhere only where "
+           "it leaves smaller jumps at the donor's faces than the donor mean (BVD: a dust stays a dust; experimental; docs/solver.md, "
+           "Interfaces and dust)"),
       flag("", "outflow_readmits_products", top<&Deck::outflow_readmits_products>,
            "where the flow turns inward at an outflow side, let the products that left come back (a zero-gradient copy, as before solver revision 9); "
            "default: what enters there is the ambient air (docs/solver.md, Boundaries)"),
