@@ -866,6 +866,19 @@ void Solver::interfaceWeights(int d) {
       wlic_[static_cast<std::size_t>(m) * total + c] = nsum > 0.0 ? nd / nsum : 1.0;
     }
   });
+  // The ghosts along d take their source cells' weights, as fillGhosts (just before) gave them their
+  // fractions: a periodic end's donor must carry its image's weight, and the mixture that enters at an
+  // outflow side the boundary cell's. (A mirror's |n_d| / sum |n| is its source's; a neighbouring
+  // slab sends its own, exchangeHalo.)
+  for (int side = 0; side < 2; ++side) {
+    if (d == 0 && (side == 0 ? halo_lo_ : halo_hi_)) continue;
+    const auto& dst = ghost_dst_[static_cast<std::size_t>(d)][static_cast<std::size_t>(side)];
+    const auto& src = ghost_src_[static_cast<std::size_t>(d)][static_cast<std::size_t>(side)];
+    for (int m = 0; m < M; ++m) {
+      double* w = wlic_.data() + static_cast<std::size_t>(m) * total;
+      for (std::size_t i = 0; i < dst.size(); ++i) w[dst[i]] = w[src[i]];
+    }
+  }
 }
 
 // ------------------------------------------------------------------------------------------------
