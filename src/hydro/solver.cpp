@@ -391,6 +391,8 @@ struct CellSignal {
   double c2 = 0.0;          // m2/s2
   double soft = 0.0;        // -: 0 in a cell of one material or without mixture_reuss
   double frozen_c2 = 0.0;   // m2/s2: the frozen sum's, with mixture_reuss (a bound on the closing's speed)
+  double rho = 0.0;         // kg/m3: the cell's mean density
+  double p = 0.0;           // Pa: sum alpha_k p_k over the materials above kAlphaMin
 };
 static CellSignal cellSignal(const std::vector<materials::Material>& mats, const std::vector<MaterialFields>& fields, std::size_t c, bool reuss) {
   double kv = 0.0, rho_mix = 0.0, compliance = 0.0, soft_sum = 0.0, shear = 0.0, p_sum = 0.0, p_per_k = 0.0;
@@ -415,34 +417,58 @@ static CellSignal cellSignal(const std::vector<materials::Material>& mats, const
     }
     kv += f.alpha[c] * kk;
   }
-  if (!reuss || present < 2 || !(compliance > 0.0)) return {kv / rho_mix, 0.0, kv / rho_mix};
+  if (!reuss || present < 2 || !(compliance > 0.0)) return {kv / rho_mix, 0.0, kv / rho_mix, rho_mix, p_sum};
   const double k_r = 1.0 / compliance;
-  return {(k_r + std::max(p_sum - k_r * p_per_k, 0.0) + shear) / rho_mix, soft_sum * k_r, kv / rho_mix};
+  return {(k_r + std::max(p_sum - k_r * p_per_k, 0.0) + shear) / rho_mix, soft_sum * k_r, kv / rho_mix, rho_mix, p_sum};
 }
 
 // The time one cell allows along each axis. With a soft fraction (mixture_reuss) a compression
 // closes it as a snow-plough shock, whose speed over the gas-laden cell is |du| / alpha_soft: the
-// closing speed of the cell's two faces (each the mean of the cell's and its neighbour's velocity,
-// the body's own where the neighbour is body) adds that to the cell's signal speed, so that a step
-// closes at most a Courant number's share of the soft volume; but never past the frozen mixture's
-// speed, at which the stiff material's own wave outruns the closing (a sand cell holding a few
-// percent of gas would otherwise take du / 0.05). The neighbours are read after
-// prepareStepNeighbours.
+// rate at which the cell's faces close its volume (`closing`, m/s over the cell's width) adds that
+// to the cell's signal speed, so that a sweep closes at most a Courant number's share of the soft
+// volume; but never past the frozen mixture's speed, at which the stiff material's own wave
+// outruns the closing (a sand cell holding a few percent of gas would otherwise take du / 0.05).
+// Each face moves at the acoustic solution's velocity between the cell and its neighbour (their
+// impedances and mean pressures; the body's own velocity where the neighbour is body): beside a
+// stiff neighbour the face moves with it, where the mean of the two velocities halved the
+// closing. Along a radius the faces' areas differ, so a converging flow closes a ring or a shell
+// even at one velocity (the cell on the axis twice as fast as the plane's difference says). The
+// cells' signals are read from the arrays prepareStepNeighbours fills.
 double Solver::cellStepTime(int i, int j, int k) const {
   const std::size_t c = grid_.index(i, j, k);
   double least = std::numeric_limits<double>::infinity();
   if (isBody(c)) return least;
-  const auto sig = cellSignal(mats_, fields_, c, opt_.mixture_reuss);
-  const double cs = std::sqrt(sig.c2);
+  if (!opt_.mixture_reuss) {
+    const auto sig = cellSignal(mats_, fields_, c, false);
+    const double cs = std::sqrt(sig.c2);
+    const int idx[3] = {i, j, k};
+    for (int d = 0; d < grid_.dims(); ++d) {
+      const double t = grid_.width(d, idx[d]) / (std::abs(u_[static_cast<std::size_t>(d)][c]) + cs + 1e-30);
+      least = t < least ? t : least;
+    }
+    return least;
+  }
+  const StepSignals& sg = step_signals_;
+  const double cs = std::sqrt(sg.c2[c]);
   const int idx[3] = {i, j, k};
   for (int d = 0; d < grid_.dims(); ++d) {
     const auto& ud = u_[static_cast<std::size_t>(d)];
     double signal = cs;
-    if (sig.soft > 0.0) {
-      const std::size_t st = grid_.stride(d);
+    if (sg.soft[c] > 0.0) {
+      const std::size_t st = static_cast<std::size_t>(grid_.stride(d));
       const double body_u = body_velocity_[static_cast<std::size_t>(d)];
-      const double lo = isBody(c - st) ? body_u : 0.5 * (ud[c - st] + ud[c]), hi = isBody(c + st) ? body_u : 0.5 * (ud[c] + ud[c + st]);
-      signal = std::max(cs, std::min(cs + std::max(lo - hi, 0.0) / sig.soft, std::sqrt(sig.frozen_c2)));
+      // the acoustic face velocity between cells l and r: (Z_l u_l + Z_r u_r + p_l - p_r) / (Z_l + Z_r)
+      auto face = [&](std::size_t l, std::size_t r) {
+        const double zs = sg.z[l] + sg.z[r];
+        return zs > 0.0 ? (sg.z[l] * ud[l] + sg.z[r] * ud[r] + sg.p[l] - sg.p[r]) / zs : 0.5 * (ud[l] + ud[r]);
+      };
+      const double lo = isBody(c - st) ? body_u : face(c - st, c), hi = isBody(c + st) ? body_u : face(c, c + st);
+      double closing = lo - hi;
+      if (d == 0 && grid_.curvilinear()) {   // the faces' areas over the cell's volume, times its width
+        const double w_per_v = grid_.width(0, i) / grid_.cellVolume(i, j, k);
+        closing = grid_.faceArea(0, i, j, k) * w_per_v * lo - grid_.faceArea(0, i + 1, j, k) * w_per_v * hi;
+      }
+      signal = std::max(cs, std::min(cs + std::max(closing, 0.0) / sg.soft[c], std::sqrt(sg.frozen_c2[c])));
     }
     const double t = grid_.width(d, idx[d]) / (std::abs(ud[c]) + signal + 1e-30);
     least = t < least ? t : least;
@@ -450,20 +476,40 @@ double Solver::cellStepTime(int i, int j, int k) const {
   return least;
 }
 
-double Solver::stableTimeStep() const {
+double Solver::stableTimeStep() {
+  prepareStepNeighbours();
   double dt = parallel::minOverCells(grid_.cells(0), grid_.cells(1), grid_.cells(2), useThreads(), step_balance_,
                                      [this](int i, int j, int k) { return cellStepTime(i, j, k); });
   if (exchange_) dt = exchange_->minimum(dt);
   return opt_.cfl * dt;
 }
 
-// The step's neighbour velocities (cellStepTime, mixture_reuss only): the neighbouring slabs' and the
-// boundaries' ghosts as they are now, so that a slab's step is the whole's. nextTimeStep calls it;
-// a caller of stableTimeStep alone with the option on must call it first.
+// What the step reads beyond each cell (mixture_reuss only): the neighbouring slabs' and the
+// boundaries' ghosts as they are now, so that a slab's step is the whole's, and every cell's signal,
+// impedance and mean pressure, the ghosts' one layer deep included, for the faces' velocities.
 void Solver::prepareStepNeighbours() {
   if (!opt_.mixture_reuss) return;
   if (exchange_) exchangeHalo(false);
   for (int d = 0; d < grid_.dims(); ++d) fillGhosts(d, GhostFill::StatesAndVelocity);
+  StepSignals& sg = step_signals_;
+  const std::size_t total = grid_.totalCells();
+  if (sg.c2.size() != total)
+    for (auto* a : {&sg.c2, &sg.soft, &sg.frozen_c2, &sg.z, &sg.p}) a->assign(total, 0.0);
+  const int dims = grid_.dims();
+  const int n0 = grid_.cells(0) + 2, n1 = dims > 1 ? grid_.cells(1) + 2 : 1, n2 = dims > 2 ? grid_.cells(2) + 2 : 1;
+  parallel::forEachCell(n0, n1, n2, useThreads(), signal_balance_, [&](int a, int b, int e) {
+    // the interior and the ghosts beside its faces (an edge's or a corner's ghost is never read)
+    const int outside = (a == 0 || a == n0 - 1) + (dims > 1 && (b == 0 || b == n1 - 1)) + (dims > 2 && (e == 0 || e == n2 - 1));
+    if (outside > 1) return;
+    const std::size_t c = grid_.index(a - 1, dims > 1 ? b - 1 : b, dims > 2 ? e - 1 : e);
+    if (isBody(c)) return;   // a face on the body moves with it
+    const auto sig = cellSignal(mats_, fields_, c, true);
+    sg.c2[c] = sig.c2;
+    sg.soft[c] = sig.soft;
+    sg.frozen_c2[c] = sig.frozen_c2;
+    sg.z[c] = sig.rho * std::sqrt(std::max(sig.c2, 0.0));
+    sg.p[c] = sig.p;
+  });
 }
 
 std::string Solver::describeLimitingCell() const {
@@ -1604,7 +1650,6 @@ Vec3 Solver::wholeBodyLoad() {
 }
 
 double Solver::nextTimeStep(double stop) {
-  prepareStepNeighbours();
   double dt = stableTimeStep();
   dt = dt_free_ > 0.0 ? std::min(dt, 1.2 * dt_free_) : dt * opt_.initial_dt_fraction;
   dt = std::min(dt, opt_.max_dt);

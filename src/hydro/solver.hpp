@@ -69,12 +69,18 @@ struct DetonationPoint {
 // weights (docs/solver.md, "Revision 14").
 // `ejecta validate --reuse` reruns a case saved by another revision; a checkpoint of another
 // revision is refused (its energy books differ in layout too).
-inline constexpr int kSolverRevision = 14;
+// 15: a mixed cell's stiffness in the faces' impedance and the time step is by default the one the
+// closure answers with (Reuss with its dilution stiffness, `mixture_stiffness = "reuss"`), at
+// Courant 0.30 (the default was the frozen Voigt sum at 0.45); the ghosts along a sweep's axis take
+// their source cells' WLIC weights (docs/solver.md, "Revision 15").
+inline constexpr int kSolverRevision = 15;
 
 inline constexpr int kMaxSweepTile = 64;   // the widest tile of pencils a sweep takes (SolverOptions::sweep_tile)
 
 struct SolverOptions {
-  double cfl = 0.45;                     // - Courant number of each sweep
+  // - Courant number of each sweep: 0.30 since revision 15, chosen by the Reuss step's own error
+  // (docs/solver.md, "Revision 15"; 0.45 before, with the frozen stiffness)
+  double cfl = 0.30;
   Vec3 gravity{0.0, 0.0, 0.0};           // m/s2
   // Boundaries: [axis][0 = low, 1 = high].
   std::array<std::array<mesh::BoundaryKind, 2>, 3> boundary{};
@@ -85,11 +91,12 @@ struct SolverOptions {
   double min_dt = 1e-14;                 // s: below this the step has collapsed and the run stops
   double initial_dt_fraction = 0.1;      // first step = this fraction of the CFL step
   // A mixed cell's stiffness in the faces' impedance and the time step (docs/solver.md, "The
-  // mixture's stiffness"). Frozen (default): sum alpha_k K_k, the Voigt sum, which in a gas carrying
-  // a dust of sand is the sand's. Reuss: what the closure's volume sharing answers with, 1 / sum
-  // (alpha_k / K_k), plus the dilution stiffness of a cell out of pressure equilibrium, with a
-  // shock impedance floor rho |du| / alpha_soft and a step that sees the soft fraction closing.
-  bool mixture_reuss = false;
+  // mixture's stiffness"). Reuss (default since revision 15): what the closure's volume sharing
+  // answers with, 1 / sum (alpha_k / K_k), plus the dilution stiffness of a cell out of pressure
+  // equilibrium, with a shock impedance floor rho |du| / alpha_soft and a step that sees the soft
+  // fraction closing. Frozen: sum alpha_k K_k, the Voigt sum, which in a gas carrying a dust of sand
+  // is the sand's (the default up to revision 14).
+  bool mixture_reuss = true;
   // THINC's profile on an interface (near-pure fractions on both sides within two cells), elsewhere
   // only where it leaves smaller jumps at the donor's faces than the donor mean (BVD; docs/solver.md,
   // "Interfaces and dust"): a dust of sand in gas is remapped by the mean, not striped.
@@ -256,7 +263,9 @@ class Solver {
   void readCheckpoint(std::istream& is);   // throws InputError if it does not fit this set-up
 
   // --- time stepping --------------------------------------------------------------------------
-  double stableTimeStep() const;         // CFL step from the current state (not from two threads at once: it keeps its loop's costs)
+  // CFL step from the current state (not from two threads at once: it keeps its loop's costs); with
+  // mixture_reuss it first fills what the step reads beyond each cell (prepareStepNeighbours).
+  double stableTimeStep();
   // The one time-step controller (advanceTo and the run's loops use it): the CFL step, grown by at
   // most 20% from the last step that was not cut short (a step cut to land on `stop`, an output
   // time, does not restart the growth), the first one initial_dt_fraction of it; at most max_dt
@@ -266,7 +275,7 @@ class Solver {
   // the message when the step collapses.
   std::string describeLimitingCell() const;
   double cellStepTime(int i, int j, int k) const;   // the least over the axes of width / signal speed, s
-  void prepareStepNeighbours();                      // the ghosts the step reads (mixture_reuss)
+  void prepareStepNeighbours();                      // the ghosts and cell signals the step reads (mixture_reuss)
   void step(double dt);                  // one full step (all sweeps); throws RunError on blow-up
   // Continues from a state mapped in from another run (hydro/rezone.hpp): the clock starts at t and
   // the energy books carry what that run booked, so they close over both.
@@ -364,7 +373,14 @@ class Solver {
   std::vector<PencilLedger> ledgers_;   // sweep()'s scratch: one per pencil
   // each threaded loop's cost by block last time: the threads' split (parallel/loops.hpp)
   std::array<parallel::LoadBalance, 3> sweep_balance_;   // by the sweep's axis
-  mutable parallel::LoadBalance step_balance_;            // stableTimeStep (which writes it: one caller at a time)
+  parallel::LoadBalance step_balance_;                    // stableTimeStep (which writes it: one caller at a time)
+  parallel::LoadBalance signal_balance_;                  // prepareStepNeighbours
+  // mixture_reuss: each cell's signal (cellSignal), impedance rho c (kg/m2/s) and mean pressure (Pa),
+  // the ghosts one layer deep included, as prepareStepNeighbours left them for the step's faces
+  struct StepSignals {
+    std::vector<double> c2, soft, frozen_c2, z, p;
+  };
+  StepSignals step_signals_;
   parallel::LoadBalance stress_balance_, weights_balance_, burn_balance_;
   std::vector<double> wlic_;             // per material and cell: share of the interface facing axis d (mixed cells only: a full cell's is 1)
   std::vector<double> light_distance_;   // m, to the nearest detonation point (+inf without one)

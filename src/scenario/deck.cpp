@@ -82,14 +82,16 @@ std::vector<Key> makeKeys() {
            "2D r-z, or 3D quarter symmetry (x, y >= 0 symmetry planes, z up; radii in the deck are from the z axis)"),
       flag("", "gravity", top<&Deck::gravity>, "body force -9.81 m/s2 on the flow and the plate"),
       number("", "end_time_s", top<&Deck::end_time_s>, "s", {0.0, 1.0, true}, "simulated time (not within the early time: at least its map time)"),
-      number("", "cfl", top<&Deck::cfl>, "-", {0.05, 0.9}, "Courant number of each sweep"),
+      number("", "cfl", top<&Deck::cfl>, "-", {0.05, 0.9},
+             "Courant number of each sweep (0.30 since solver revision 15, chosen by the Reuss mixture's step error; 0.45 before)"),
       number("", "fragment_fold", top<&Deck::fragment_fold>, "-", {0.0, 1e-8},
              "a material under this fraction of a cell's volume is folded into the cell's other materials (mass, momentum and energy kept; "
              "summary.json books each material's folded mass); 0: never (docs/solver.md, Fragments)"),
       text("", "mixture_stiffness", top<&Deck::mixture_stiffness>, {"frozen", "reuss"},
-           "a mixed cell's stiffness in the faces' impedance and the time step: the frozen (Voigt) sum, or the Reuss modulus the closure "
-           "answers with plus its dilution stiffness, a shock impedance floor and the soft fraction's closing in the step (experimental; "
-           "docs/solver.md, The mixture's stiffness)"),
+           "a mixed cell's stiffness in the faces' impedance and the time step: the Reuss modulus the closure answers with plus its "
+           "dilution stiffness, a shock impedance floor and the soft fraction's closing in the step (the default since solver revision 15), "
+           "or the frozen (Voigt) sum, the default up to revision 14, whose step a trace of sand in gas sets (docs/solver.md, The mixture's "
+           "stiffness)"),
       text("", "interface_remap", top<&Deck::interface_remap>, {"thinc", "thinc-bvd"},
            "how the remap moves a mixed cell's materials: THINC's sharp profile wherever the neighbours bracket the cell (it stripes a "
            "dust of sand in gas), or the profile on interfaces (near-pure fractions on both sides within two cells) and elsewhere only where "

@@ -99,10 +99,10 @@ struct Deck {
   TargetSpec target;
   bool gravity = true;
   double end_time_s = 0.01;
-  double cfl = 0.45;
+  double cfl = 0.30;
   double fragment_fold = 1e-10;
   bool outflow_readmits_products = false;
-  std::string mixture_stiffness = "frozen";
+  std::string mixture_stiffness = "reuss";
   std::string interface_remap = "thinc";
   EarlySpec early;
   OutputSpec output;

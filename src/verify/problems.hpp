@@ -45,7 +45,7 @@ struct Options {
 // How `ejecta run` runs a charge (scenario/case.cpp, scenario/run.cpp), restated for the free-air
 // blast row, which sits below the scenario layer; a unit test holds these to the deck's defaults.
 struct RunSettings {
-  double cfl = 0.45;                            // - the deck's default
+  double cfl = 0.30;                            // - the deck's default
   double initial_dt_fraction = 0.1;             // - first step, of the CFL step
   double dt_growth = 1.2;                       // - largest growth of the step from one step to the next
   int charge_paint_samples = 8;                 // sub-samples per axis of a cell cut by the charge

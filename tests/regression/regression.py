@@ -46,7 +46,7 @@ CASES = {
     "emi-flat-22-40mm": [["emi-flat-22", "--cell-size", "40", "--set", "end_time_s=0.001"]],
     "emi-flat-22-40mm-bvd": [["emi-flat-22", "--cell-size", "40", "--set", "end_time_s=0.001", "--set", "interface_remap=\"thinc-bvd\""]],
     "emi-v120-7-3d-60mm": [["emi-v120-7", "--cell-size", "60", "--set", "end_time_s=0.0005"]],
-    "emi-v120-7-3d-60mm-reuss": [["emi-v120-7", "--cell-size", "60", "--set", "end_time_s=0.0005", "--set", "mixture_stiffness=\"reuss\""]],
+    "emi-v120-7-3d-60mm-frozen": [["emi-v120-7", "--cell-size", "60", "--set", "end_time_s=0.0005", "--set", "mixture_stiffness=\"frozen\"", "--set", "cfl=0.45"]],
     "field-cover7-2.5cm-restart": [
         ["field-cover7-2.5cm", "--cell-size", "40", "--set", "end_time_s=0.0005", "--checkpoint-at", "0.00025"],
         ["field-cover7-2.5cm", "--cell-size", "40", "--set", "end_time_s=0.001", "--restart", "{prev}/checkpoint.bin"],
@@ -58,7 +58,7 @@ WHAT = {
     "emi-flat-22-40mm": "free 300 kg plate, gravity, friction 0.2, wet sand (2D axisymmetric)",
     "emi-flat-22-40mm-bvd": "the same with THINC only where BVD picks it (interface_remap = \"thinc-bvd\")",
     "emi-v120-7-3d-60mm": "120 degree V plate, 3D quarter, free plate, gravity, friction",
-    "emi-v120-7-3d-60mm-reuss": "the same with the Reuss mixture stiffness (mixture_stiffness = \"reuss\")",
+    "emi-v120-7-3d-60mm-frozen": "the same with revision 14's frozen mixture stiffness at Courant 0.45 (mixture_stiffness = \"frozen\", cfl = 0.45)",
     "field-cover7-2.5cm-restart": "backfilled cover (5 materials), checkpoint at 0.25 ms, restarted to 1 ms",
 }
 

@@ -509,6 +509,11 @@ TEST(VerifyFreeAir, RunsWithTheDecksDefaults) {
   const ejecta::scenario::Deck deck;
   const ejecta::verify::RunSettings rs;
   EXPECT_DOUBLE_EQ(rs.cfl, deck.cfl);
+  // and the solver's own defaults, which the other verification rows and the unit tests take, are the deck's
+  const ejecta::hydro::SolverOptions so;
+  EXPECT_DOUBLE_EQ(so.cfl, deck.cfl);
+  EXPECT_EQ(so.mixture_reuss, deck.mixture_stiffness == "reuss");
+  EXPECT_EQ(so.thinc_bvd, deck.interface_remap == "thinc-bvd");
   EXPECT_DOUBLE_EQ(rs.air_pressure_pa, deck.air_pressure_pa);
   EXPECT_DOUBLE_EQ(rs.air_density_kg_m3, deck.air_density_kg_m3);
   EXPECT_DOUBLE_EQ(rs.early_cells_per_charge_height, deck.early.cells_per_charge_height);

@@ -67,7 +67,7 @@ TEST(ValidationPlan, TheThreeQuarterPlatesShareTheirFarField) {
 TEST(ValidationPlan, OnlyPicksStudiesAndTheirCasesAndRejectsUnknownNames) {
   const auto plan = scenario::validationPlan(ValidationLevel::Quick, {"sensitivity"});
   ASSERT_EQ(plan.studies, std::vector<std::string>{"sensitivity"});
-  EXPECT_EQ(plan.cases.size(), 18u);   // the EMI 7% baseline and 17 changed inputs (four standoffs, two couplings, two charge shapes, the plateau, the water set, two shear caps, the shear law, the Poisson bound, two frictions, the step)
+  EXPECT_EQ(plan.cases.size(), 19u);   // the EMI 7% baseline and 18 changed inputs (four standoffs, two couplings, two charge shapes, the plateau, the water set, two shear caps, the shear law, the Poisson bound, two frictions, the step, the mixed cells' stiffness)
   EXPECT_EQ(plan.cases.front().id, "emi-flat-7");
   try {
     scenario::validationPlan(ValidationLevel::Quick, {"mesh", "bogus"});
