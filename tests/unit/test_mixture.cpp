@@ -102,7 +102,8 @@ TEST(MixtureStiffness, TheStepTakesTheFrozenSumOrTheClosuresReussModulus) {
 // thousand times the gas's, so the face moves at nearly v (the mean of the two velocities gave v/2).
 // (2) The same dusty gas in r-z, flowing at one inward velocity v: no velocity differs across any
 // face, but the rings shrink: the cell on the axis closes at 2 v over its width (its outer face's
-// area over its volume, times its width, is 2), the next at v dr / r_c = 2 v / 3; along z nothing.
+// area over its volume, times its width, is 2), the next at v dr / r_c = 2 v / 3; along z nothing;
+// (3) in spherical shells the centre's cell at 3 v.
 TEST(MixtureStiffness, TheStepsClosingTakesTheFacesAcousticVelocityAndTheRingsAreas) {
   const auto w = wood();
   const double k_gas = kGamma * kP0, k_w = waterBulk();
@@ -147,6 +148,29 @@ TEST(MixtureStiffness, TheStepsClosingTakesTheFacesAcousticVelocityAndTheRingsAr
     const double axis_cell = dx / (v + w.speed + 2.0 * v / soft), next = dx / (v + w.speed + (2.0 * v / 3.0) / soft);
     EXPECT_NEAR(s.cellStepTime(0, 1, 0), axis_cell, 1e-9 * axis_cell);
     EXPECT_NEAR(s.cellStepTime(1, 1, 0), next, 1e-9 * next);
+  }
+  {
+    // (3) in 1D spherical shells: the centre's cell closes at 3 v (r^2 dr over r^3 / 3), the next at
+    // (4 - 1) dr^3 / ((8 - 1) dr^3 / 3) v = 9 v / 7
+    const int n = 4;
+    hydro::Solver s(mesh::Grid(1, mesh::Geometry::Spherical, {Axis::uniform(0.0, 1.0, n), Axis{}, Axis{}}),
+                    {materials::idealGas("air", kGamma), materials::water()}, options(true));
+    for (int i = 0; i < n; ++i) {
+      const std::size_t c = s.grid().index(i, 0, 0);
+      auto& g = s.fieldForSetup(0);
+      g.alpha[c] = 1.0 - kFrac;
+      g.rho[c] = kRhoGas;
+      g.e[c] = kP0 / ((kGamma - 1.0) * kRhoGas);
+      auto& wt = s.fieldForSetup(1);
+      wt.alpha[c] = kFrac;
+      wt.rho[c] = 1000.0;
+      wt.e[c] = 0.0;
+      s.setVelocity(c, {-v, 0.0, 0.0});
+    }
+    s.prepareStepNeighbours();
+    const double centre = dx / (v + w.speed + 3.0 * v / soft), next = dx / (v + w.speed + (9.0 * v / 7.0) / soft);
+    EXPECT_NEAR(s.cellStepTime(0, 0, 0), centre, 1e-9 * centre);
+    EXPECT_NEAR(s.cellStepTime(1, 0, 0), next, 1e-9 * next);
   }
 }
 
