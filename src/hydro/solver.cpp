@@ -433,42 +433,42 @@ static CellSignal cellSignal(const std::vector<materials::Material>& mats, const
 // stiff neighbour the face moves with it, where the mean of the two velocities halved the
 // closing. Along a radius the faces' areas differ, so a converging flow closes a ring or a shell
 // even at one velocity (the cell on the axis twice as fast as the plane's difference says). The
-// cells' signals are read from the arrays prepareStepNeighbours fills.
+// neighbours are read as prepareStepNeighbours left their ghosts.
 double Solver::cellStepTime(int i, int j, int k) const {
   const std::size_t c = grid_.index(i, j, k);
   double least = std::numeric_limits<double>::infinity();
   if (isBody(c)) return least;
-  if (!opt_.mixture_reuss) {
-    const auto sig = cellSignal(mats_, fields_, c, false);
-    const double cs = std::sqrt(sig.c2);
-    const int idx[3] = {i, j, k};
-    for (int d = 0; d < grid_.dims(); ++d) {
-      const double t = grid_.width(d, idx[d]) / (std::abs(u_[static_cast<std::size_t>(d)][c]) + cs + 1e-30);
-      least = t < least ? t : least;
-    }
-    return least;
-  }
-  const StepSignals& sg = step_signals_;
-  const double cs = std::sqrt(sg.c2[c]);
+  const auto sig = cellSignal(mats_, fields_, c, opt_.mixture_reuss);
+  const double cs = std::sqrt(sig.c2);
   const int idx[3] = {i, j, k};
   for (int d = 0; d < grid_.dims(); ++d) {
     const auto& ud = u_[static_cast<std::size_t>(d)];
     double signal = cs;
-    if (sg.soft[c] > 0.0) {
+    if (sig.soft > 0.0) {
       const std::size_t st = static_cast<std::size_t>(grid_.stride(d));
       const double body_u = body_velocity_[static_cast<std::size_t>(d)];
-      // the acoustic face velocity between cells l and r: (Z_l u_l + Z_r u_r + p_l - p_r) / (Z_l + Z_r)
-      auto face = [&](std::size_t l, std::size_t r) {
-        const double zs = sg.z[l] + sg.z[r];
-        return zs > 0.0 ? (sg.z[l] * ud[l] + sg.z[r] * ud[r] + sg.p[l] - sg.p[r]) / zs : 0.5 * (ud[l] + ud[r]);
+      // the acoustic face velocity between cells l and r: (Z_l u_l + Z_r u_r + p_l - p_r) / (Z_l + Z_r),
+      // each side's impedance rho c and mean pressure from its own signal (a mixed cell's neighbours
+      // only: most cells have no soft fraction and read none)
+      const auto side = [&](std::size_t n) {
+        const auto sn = n == c ? sig : cellSignal(mats_, fields_, n, true);
+        return std::pair{sn.rho * std::sqrt(std::max(sn.c2, 0.0)), sn.p};
       };
-      const double lo = isBody(c - st) ? body_u : face(c - st, c), hi = isBody(c + st) ? body_u : face(c, c + st);
+      const auto [z_c, p_c] = side(c);
+      auto face = [&](std::size_t n, bool n_is_left) {
+        const auto [z_n, p_n] = side(n);
+        const double zs = z_n + z_c;
+        const double zl = n_is_left ? z_n : z_c, zr = n_is_left ? z_c : z_n, pl = n_is_left ? p_n : p_c, pr = n_is_left ? p_c : p_n;
+        const double ul = n_is_left ? ud[n] : ud[c], ur = n_is_left ? ud[c] : ud[n];
+        return zs > 0.0 ? (zl * ul + zr * ur + pl - pr) / zs : 0.5 * (ul + ur);
+      };
+      const double lo = isBody(c - st) ? body_u : face(c - st, true), hi = isBody(c + st) ? body_u : face(c + st, false);
       double closing = lo - hi;
       if (d == 0 && grid_.curvilinear()) {   // the faces' areas over the cell's volume, times its width
         const double w_per_v = grid_.width(0, i) / grid_.cellVolume(i, j, k);
         closing = grid_.faceArea(0, i, j, k) * w_per_v * lo - grid_.faceArea(0, i + 1, j, k) * w_per_v * hi;
       }
-      signal = std::max(cs, std::min(cs + std::max(closing, 0.0) / sg.soft[c], std::sqrt(sg.frozen_c2[c])));
+      signal = std::max(cs, std::min(cs + std::max(closing, 0.0) / sig.soft, std::sqrt(sig.frozen_c2)));
     }
     const double t = grid_.width(d, idx[d]) / (std::abs(ud[c]) + signal + 1e-30);
     least = t < least ? t : least;
@@ -485,31 +485,12 @@ double Solver::stableTimeStep() {
 }
 
 // What the step reads beyond each cell (mixture_reuss only): the neighbouring slabs' and the
-// boundaries' ghosts as they are now, so that a slab's step is the whole's, and every cell's signal,
-// impedance and mean pressure, the ghosts' one layer deep included, for the faces' velocities.
+// boundaries' ghosts as they are now, so that a slab's step is the whole's (a mixed cell's faces
+// take their neighbours' velocities and signals).
 void Solver::prepareStepNeighbours() {
   if (!opt_.mixture_reuss) return;
   if (exchange_) exchangeHalo(false);
   for (int d = 0; d < grid_.dims(); ++d) fillGhosts(d, GhostFill::StatesAndVelocity);
-  StepSignals& sg = step_signals_;
-  const std::size_t total = grid_.totalCells();
-  if (sg.c2.size() != total)
-    for (auto* a : {&sg.c2, &sg.soft, &sg.frozen_c2, &sg.z, &sg.p}) a->assign(total, 0.0);
-  const int dims = grid_.dims();
-  const int n0 = grid_.cells(0) + 2, n1 = dims > 1 ? grid_.cells(1) + 2 : 1, n2 = dims > 2 ? grid_.cells(2) + 2 : 1;
-  parallel::forEachCell(n0, n1, n2, useThreads(), signal_balance_, [&](int a, int b, int e) {
-    // the interior and the ghosts beside its faces (an edge's or a corner's ghost is never read)
-    const int outside = (a == 0 || a == n0 - 1) + (dims > 1 && (b == 0 || b == n1 - 1)) + (dims > 2 && (e == 0 || e == n2 - 1));
-    if (outside > 1) return;
-    const std::size_t c = grid_.index(a - 1, dims > 1 ? b - 1 : b, dims > 2 ? e - 1 : e);
-    if (isBody(c)) return;   // a face on the body moves with it
-    const auto sig = cellSignal(mats_, fields_, c, true);
-    sg.c2[c] = sig.c2;
-    sg.soft[c] = sig.soft;
-    sg.frozen_c2[c] = sig.frozen_c2;
-    sg.z[c] = sig.rho * std::sqrt(std::max(sig.c2, 0.0));
-    sg.p[c] = sig.p;
-  });
 }
 
 std::string Solver::describeLimitingCell() const {

@@ -275,7 +275,7 @@ class Solver {
   // the message when the step collapses.
   std::string describeLimitingCell() const;
   double cellStepTime(int i, int j, int k) const;   // the least over the axes of width / signal speed, s
-  void prepareStepNeighbours();                      // the ghosts and cell signals the step reads (mixture_reuss)
+  void prepareStepNeighbours();                      // the ghosts the step reads (mixture_reuss)
   void step(double dt);                  // one full step (all sweeps); throws RunError on blow-up
   // Continues from a state mapped in from another run (hydro/rezone.hpp): the clock starts at t and
   // the energy books carry what that run booked, so they close over both.
@@ -374,13 +374,6 @@ class Solver {
   // each threaded loop's cost by block last time: the threads' split (parallel/loops.hpp)
   std::array<parallel::LoadBalance, 3> sweep_balance_;   // by the sweep's axis
   parallel::LoadBalance step_balance_;                    // stableTimeStep (which writes it: one caller at a time)
-  parallel::LoadBalance signal_balance_;                  // prepareStepNeighbours
-  // mixture_reuss: each cell's signal (cellSignal), impedance rho c (kg/m2/s) and mean pressure (Pa),
-  // the ghosts one layer deep included, as prepareStepNeighbours left them for the step's faces
-  struct StepSignals {
-    std::vector<double> c2, soft, frozen_c2, z, p;
-  };
-  StepSignals step_signals_;
   parallel::LoadBalance stress_balance_, weights_balance_, burn_balance_;
   std::vector<double> wlic_;             // per material and cell: share of the interface facing axis d (mixed cells only: a full cell's is 1)
   std::vector<double> light_distance_;   // m, to the nearest detonation point (+inf without one)
