@@ -454,15 +454,13 @@ double Solver::cellStepTime(int i, int j, int k) const {
         const auto sn = n == c ? sig : cellSignal(mats_, fields_, n, true);
         return std::pair{sn.rho * std::sqrt(std::max(sn.c2, 0.0)), sn.p};
       };
-      const auto [z_c, p_c] = side(c);
-      auto face = [&](std::size_t n, bool n_is_left) {
-        const auto [z_n, p_n] = side(n);
-        const double zs = z_n + z_c;
-        const double zl = n_is_left ? z_n : z_c, zr = n_is_left ? z_c : z_n, pl = n_is_left ? p_n : p_c, pr = n_is_left ? p_c : p_n;
-        const double ul = n_is_left ? ud[n] : ud[c], ur = n_is_left ? ud[c] : ud[n];
-        return zs > 0.0 ? (zl * ul + zr * ur + pl - pr) / zs : 0.5 * (ul + ur);
+      auto face = [&](std::size_t l, std::size_t r) {
+        const auto [zl, pl] = side(l);
+        const auto [zr, pr] = side(r);
+        const double zs = zl + zr;
+        return zs > 0.0 ? (zl * ud[l] + zr * ud[r] + pl - pr) / zs : 0.5 * (ud[l] + ud[r]);
       };
-      const double lo = isBody(c - st) ? body_u : face(c - st, true), hi = isBody(c + st) ? body_u : face(c + st, false);
+      const double lo = isBody(c - st) ? body_u : face(c - st, c), hi = isBody(c + st) ? body_u : face(c, c + st);
       double closing = lo - hi;
       if (d == 0 && grid_.curvilinear()) {   // the faces' areas over the cell's volume, times its width
         const double w_per_v = grid_.width(0, i) / grid_.cellVolume(i, j, k);
