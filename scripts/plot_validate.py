@@ -35,10 +35,10 @@ def mesh(p):
     a2.legend(fontsize=8)
     # each material's share must converge too, not only the sum
     # by the cell beside the plate (dashed) and by the materials within 20 mm of it (solid, banded)
-    for key, label, colour, style, band in (("impulse_products_Ns", "products, cell beside the plate", "tab:red", "o--", False),
-                                            ("impulse_soil_Ns", "soil, cell beside the plate", "tab:olive", "o--", False),
-                                            ("within_products", "products, within 20 mm", "tab:red", "s-", True),
-                                            ("within_soil", "soil, within 20 mm", "tab:olive", "s-", True)):
+    for key, label, colour, style, band in (("impulse_products_Ns", "products, cell beside the plate (shown)", "tab:red", "o--", False),
+                                            ("impulse_soil_Ns", "soil, cell beside the plate (shown)", "tab:olive", "o--", False),
+                                            ("within_products", "products, within 20 mm (judged)", "tab:red", "s-", True),
+                                            ("within_soil", "soil, within 20 mm (judged)", "tab:olive", "s-", True)):
         if key in p:
             v = p[key]
             a3.plot(p["cell_mm"], v, style, color=colour, label=label)

@@ -217,7 +217,7 @@ Action addValidateCommand(CLI::App& app) {
                                  "sensitivity to the unknown inputs, DRES soil bubble, 3D V-plates) and writes the report: validation.md + PNG\n"
                                  "figures, a self-contained validation.html and validation.json. Exit code 4 if a check fails.");
   sub->add_flag("--quick", o->quick, "Coarse cells, a few minutes on 2 cores (the default)");
-  sub->add_flag("--full", o->full, "The published resolution: plates at 5 mm, mesh study 10/6/5/4/3 mm, soil bubble 3 mm, sensitivity 10 mm (about an hour on 2 cores; the three 3D plates at 10 mm about 1.2 hours more: on revision 15 29 / 19 / 23 min for the flat, 120 and 90 degree plates)");
+  sub->add_flag("--full", o->full, "The published resolution: plates at 5 mm, mesh study 10/6/5/4/3 mm, soil bubble 3 mm, sensitivity 10 mm (about 40 min on 2 cores; the three 3D plates at 10 mm about 1.3 hours more: on revision 15 22.0 / 26.6 / 27.2 min for the flat, 120 and 90 degree plates)");
   sub->add_option("--only", o->only, "Studies to run, comma-separated: mesh, moisture, field, share, sensitivity, dres, vplates (default: all)")
       ->delimiter(',');
   sub->add_option("--vplate-cell-size", o->vplate_mm,

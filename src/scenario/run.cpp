@@ -970,6 +970,7 @@ RunResult runStaged(const Deck& deck, const RunOptions& opt, const fs::path& out
                      {"by_material_J", by_kind},
                      {"note", "final = initial - boundary_flux (net outflow) - work_on_target + gravity_work; imbalance_fraction is over the charge's energy"}};
     res.energy_imbalance_fraction = sum["energy"]["imbalance_fraction"].get<double>();
+    res.charge_energy_J = e_charge;
   }
   {
     // Global totals at the end, for the regression tier (tests/regression) and conservation checks:

@@ -49,6 +49,7 @@ struct RunResult {
   double wall_s = 0.0;              // this run's
   double wall_before_s = 0.0;       // the runs' before the checkpoint it restarted from (0: a fresh run)
   double energy_imbalance_fraction = 0.0;   // energy books' imbalance / the charge's energy (round-off)
+  double charge_energy_J = 0.0;             // the charge's detonation energy, mass x E0 / rho0 (0: no products)
   // What history.csv and surface_profiles.csv hold, for callers that study many runs.
   std::vector<std::string> history_columns;
   std::vector<std::vector<double>> history;
