@@ -254,16 +254,22 @@ TEST(ValidationReport, APartNearZeroIsJudgedAgainstAShareOfTheCharge) {
       for (auto& e : out[c.id]["history"]["kinetic_energy_products_J"]) e = products_kinetic_J * scatter.at(c.id);
       if (!charge_recorded) out[c.id].erase("charge_energy_J");
     }
-    return scenario::validationReport(plan, out, json::object()).at("checks");
+    return scenario::validationReport(plan, out, json::object());
   };
+  auto floorParagraph = [](const json& rep) { return rep.at("sections")[0].at("paragraphs")[2].get<std::string>(); };
   const double mean = 3.1 / 3.0;   // of the finest three, in units of the part
-  const auto small = checksWith(2e3, true);
+  const auto small_rep = checksWith(2e3, true);
+  const auto& small = small_rep.at("checks");
   EXPECT_NEAR(small[7].at("value").get<double>(), 100.0 * (1.2 - mean) * 2e3 / 3.3e4, 1e-9);
   EXPECT_TRUE(small[7].at("pass").get<bool>());
-  const auto large = checksWith(2e5, true);
+  EXPECT_NE(floorParagraph(small_rep).find("here the products kinetic energy"), std::string::npos);
+  const auto large_rep = checksWith(2e5, true);
+  const auto& large = large_rep.at("checks");
   EXPECT_NEAR(large[7].at("value").get<double>(), 100.0 * (1.2 - mean) / mean, 1e-9);
   EXPECT_FALSE(large[7].at("pass").get<bool>());
-  const auto earlier = checksWith(2e3, false);
+  EXPECT_NE(floorParagraph(large_rep).find("here none is"), std::string::npos);
+  const auto earlier_rep = checksWith(2e3, false);
+  const auto& earlier = earlier_rep.at("checks");
   EXPECT_NEAR(earlier[7].at("value").get<double>(), 100.0 * (1.2 - mean) / mean, 1e-9);
   EXPECT_FALSE(earlier[7].at("pass").get<bool>());
   EXPECT_TRUE(earlier[6].at("pass").get<bool>());   // the products' internal energy: judged as before
