@@ -17,11 +17,17 @@ def main(data_path, out_path):
     t = [r[0] * 1e3 for r in h]
     fig, (a1, a2, a3) = plt.subplots(1, 3, figsize=(16, 4.8))
     a1.plot(t, [r[1] for r in h], "k", lw=2, label="total")
+    # by the materials within 20 mm of the target (columns 8-10; it converges with the cell size),
+    # and thin and dashed by the cell beside it (columns 5-7; it does not: docs/validate.md)
     for col, name, c in ((5, "air", "tab:blue"), (6, "products", "tab:red"), (7, "soil", "tab:brown")):
-        a1.plot(t, [r[col] for r in h], color=c, lw=1.2, label=name)
+        if len(h[0]) > col + 3:
+            a1.plot(t, [r[col + 3] for r in h], color=c, lw=1.2, label=f"{name}, within 20 mm")
+            a1.plot(t, [r[col] for r in h], color=c, lw=0.8, ls="--", label=f"{name}, cell beside")
+        else:
+            a1.plot(t, [r[col] for r in h], color=c, lw=1.2, label=name)
     a1.set_xlabel("time (ms)")
     a1.set_ylabel("impulse on the target (N s)")
-    a1.legend()
+    a1.legend(fontsize=8)
     a1.grid(True, alpha=0.3)
     a2.plot(t, [r[2] / 1e6 for r in h], "k", lw=1)
     a2.set_xlabel("time (ms)")
