@@ -416,11 +416,16 @@ json validationReport(const ValidationPlan& plan, const std::map<std::string, js
       // the three. Shown, not judged: the split by the cell beside the plate, the material touching
       // it, which these cells do not converge (a film of sand on the plate and the mixing at its
       // face: docs/validate.md, "The mesh study's split, judged within a fixed depth").
-      auto spreadOf = [&](const std::vector<double>& v) {
+      // the mean of the finest three and their largest deviation from it; the spread is that over the mean, %
+      auto meanAndDeviation = [&](const std::vector<double>& v) {
         const double pm = std::accumulate(v.begin() + static_cast<std::ptrdiff_t>(k0), v.end(), 0.0) / static_cast<double>(v.size() - k0);
-        double sp = 0.0;
-        for (std::size_t i = k0; i < v.size(); ++i) sp = std::max(sp, std::abs(100.0 * (v[i] - pm) / pm));
-        return sp;
+        double dev = 0.0;
+        for (std::size_t i = k0; i < v.size(); ++i) dev = std::max(dev, std::abs(v[i] - pm));
+        return std::pair{pm, dev};
+      };
+      auto spreadOf = [&](const std::vector<double>& v) {
+        const auto [pm, dev] = meanAndDeviation(v);
+        return 100.0 * dev / std::abs(pm);
       };
       for (const char* part : {"impulse_products_Ns", "impulse_soil_Ns"}) {
         std::vector<double> v;
@@ -524,12 +529,10 @@ json validationReport(const ValidationPlan& plan, const std::map<std::string, js
                 recorded = recorded && std::isfinite(v.back());
               }
               const bool all = std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
-              const double sp = all ? spreadOf(v) : std::nan("");
-              double judged = std::nan("");
+              double sp = std::nan(""), judged = std::nan("");
               if (all) {
-                const double pm = std::accumulate(v.begin() + static_cast<std::ptrdiff_t>(k0), v.end(), 0.0) / static_cast<double>(v.size() - k0);
-                double dev = 0.0;
-                for (std::size_t i = k0; i < v.size(); ++i) dev = std::max(dev, std::abs(v[i] - pm));
+                const auto [pm, dev] = meanAndDeviation(v);
+                sp = 100.0 * dev / std::abs(pm);
                 judged = 100.0 * dev / std::max(std::abs(pm), floor_J);
                 worst = std::max(worst, judged);
                 const std::string name = fmt::format("the {} {} energy", kind, part);
